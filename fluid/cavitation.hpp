@@ -1,0 +1,79 @@
+// Isentropic one-fluid cavitation model (physics.md §2, paper eqs. 5–9, after Liu, Khoo and Xie 2004).
+// Below the cavitation pressure a cell holds a homogeneous, barotropic vapour–liquid mixture whose density
+// ρ(p) is monotone in p; the pressure is found by inverting it.
+#pragma once
+#include <cmath>
+
+namespace undex::fluid {
+
+struct CavitationModel {
+    double p_cav = 2338.0;     // cavitation (vapour) pressure
+    double rho_g_cav = 0.0173; // vapour density at p_cav
+    double gamma_g = 1.4;      // vapour isentropic exponent
+    double alpha0 = 1e-5;      // void fraction reference
+    // Liquid (Tait) constants, copied from the water it belongs to.
+    double gamma_w = 7.15, B = 3.31e8, A = 1e5, rho0 = 1000.0;
+
+    // Derived: p̄_cav = p_cav + B − A, liquid density at p_cav, k = α0/(1−α0), mixture density at p_cav.
+    double pbar_cav = 0, rho_l_cav = 0, k = 0, rho_sat = 0, a_sat = 0;
+
+    void finalize() {
+        pbar_cav = p_cav + B - A;
+        rho_l_cav = rho0 * std::pow(pbar_cav / B, 1.0 / gamma_w);
+        k = alpha0 / (1.0 - alpha0);
+        rho_sat = mixture_density(p_cav);
+        a_sat = mixture_sound_speed(p_cav);
+    }
+
+    // ρ(p) = (k ρg_cav + ρl_cav) / [ (p̄/p̄_cav)^(−1/γw) + k (p/p_cav)^(−1/γg) ]
+    double mixture_density(double p) const {
+        const double pbar = p + B - A;
+        return (k * rho_g_cav + rho_l_cav) /
+               (std::pow(pbar / pbar_cav, -1.0 / gamma_w) + k * std::pow(p / p_cav, -1.0 / gamma_g));
+    }
+
+    // Pressure of a mixture of density rho < rho_sat: Newton in s = ln p, safeguarded by a bracket.
+    double pressure(double rho) const {
+        double lo = -60.0, hi = std::log(p_cav); // ln p bracket (p from ~1e-26 Pa to p_cav)
+        double s = std::log(p_cav * std::pow(rho / rho_sat, gamma_g)); // vapour-dominated guess
+        if (!(s > lo && s < hi)) s = 0.5 * (lo + hi);
+        for (int it = 0; it < 100; ++it) {
+            const double p = std::exp(s);
+            const double f = mixture_density(p) - rho;
+            if (f > 0) hi = s; else lo = s;
+            // dρ/ds = p dρ/dp = ρ² p / (ρ_m a²)-like; use the analytic derivative of the denominator.
+            const double pbar = p + B - A;
+            const double d1 = std::pow(pbar / pbar_cav, -1.0 / gamma_w);
+            const double d2 = k * std::pow(p / p_cav, -1.0 / gamma_g);
+            const double den = d1 + d2;
+            const double dden_ds = -(1.0 / gamma_w) * d1 * p / pbar - (1.0 / gamma_g) * d2;
+            const double drho_ds = -(k * rho_g_cav + rho_l_cav) * dden_ds / (den * den);
+            double s_new = s - f / drho_ds;
+            if (!(s_new > lo && s_new < hi)) s_new = 0.5 * (lo + hi);
+            if (std::abs(s_new - s) < 1e-13 * (1.0 + std::abs(s))) return std::exp(s_new);
+            s = s_new;
+        }
+        return std::exp(s);
+    }
+
+    // Wood's mixture sound speed: a⁻² = ρm [α/(ρg ag²) + (1−α)/(ρl al²)].
+    double mixture_sound_speed(double p) const {
+        const double pbar = p + B - A;
+        const double ratio = k * std::pow(pbar / pbar_cav, 1.0 / gamma_w) * std::pow(p / p_cav, -1.0 / gamma_g);
+        const double alpha = ratio / (1.0 + ratio);
+        const double rho_g = rho_g_cav * std::pow(p / p_cav, 1.0 / gamma_g);
+        const double rho_l = rho_l_cav * std::pow(pbar / pbar_cav, 1.0 / gamma_w);
+        const double rho_m = alpha * rho_g + (1.0 - alpha) * rho_l;
+        const double inv_a2 = rho_m * (alpha / (gamma_g * p) + (1.0 - alpha) / (gamma_w * pbar));
+        return 1.0 / std::sqrt(inv_a2);
+    }
+
+    double void_fraction(double p) const {
+        if (p >= p_cav) return 0.0;
+        const double pbar = p + B - A;
+        const double ratio = k * std::pow(pbar / pbar_cav, 1.0 / gamma_w) * std::pow(p / p_cav, -1.0 / gamma_g);
+        return ratio / (1.0 + ratio);
+    }
+};
+
+} // namespace undex::fluid

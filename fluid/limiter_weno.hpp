@@ -1,0 +1,69 @@
+// Simple WENO limiter of Zhong and Shu (JCP 232, 2013) for a troubled cell, in local characteristic
+// variables (physics.md §3). The new polynomial is a convex combination of the cell's own polynomial and
+// its face neighbours' polynomials, each shifted to the cell's average, with nonlinear weights from the
+// smoothness indicators β = Σ_{1≤|α|≤k} ∫_K |K|^{2|α|−1} (D^α p)² (scale-free on the reference cell).
+#pragma once
+#include "basis.hpp"
+
+namespace undex::fluid {
+
+template <int D, int K> struct WenoTables {
+    using B = Basis<D, K>;
+    static constexpr int NB = B::NB;
+    static constexpr int NN = 2 * D;   // face neighbours: −x, +x, −y, +y
+    double shift[NN][NB][NB];         // coefficients of a neighbour's polynomial in this cell's basis
+    double smooth[NB][NB];            // β = cᵀ S c
+
+    WenoTables() {
+        // 3-point Gauss per direction integrates products of degree-2 polynomials exactly.
+        const double g[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
+        const double w[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+        const int nq2 = D == 1 ? 1 : 3;
+        const double off[4][2] = {{-2, 0}, {2, 0}, {0, -2}, {0, 2}}; // neighbour centre in this cell's ξ, η
+        for (int nb = 0; nb < NN; ++nb)
+            for (int l = 0; l < NB; ++l)
+                for (int m = 0; m < NB; ++m) {
+                    double s = 0;
+                    for (int i = 0; i < 3; ++i)
+                        for (int j = 0; j < nq2; ++j) {
+                            const double xi = g[i], eta = D == 1 ? 0.0 : g[j];
+                            const double wq = D == 1 ? w[i] : w[i] * w[j];
+                            s += wq * B::phi(l, xi, eta) * B::phi(m, xi - off[nb][0], eta - off[nb][1]);
+                        }
+                    shift[nb][l][m] = s / B::norm(l);
+                }
+        // Smoothness: first derivatives scaled by 2 (ξ = 2x/Δx), second derivatives by 4.
+        for (int l = 0; l < NB; ++l)
+            for (int m = 0; m < NB; ++m) {
+                double s = 0;
+                for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < nq2; ++j) {
+                        const double xi = g[i], eta = D == 1 ? 0.0 : g[j];
+                        const double wq = D == 1 ? w[i] : w[i] * w[j];
+                        const double h = 1e-3; // second derivatives of quadratics by exact central differences
+                        auto d = [&](int f, int a, int b) {
+                            // ∂^{a+b} φ_f /∂ξ^a ∂η^b at (xi, eta); quadratics make these differences exact
+                            // up to round-off.
+                            if (a == 0 && b == 0) return B::phi(f, xi, eta);
+                            if (a == 1 && b == 0) return B::dphi_dxi(f, xi, eta);
+                            if (a == 0 && b == 1) return B::dphi_deta(f, xi, eta);
+                            if (a == 2) return (B::dphi_dxi(f, xi + h, eta) - B::dphi_dxi(f, xi - h, eta)) / (2 * h);
+                            if (b == 2) return (B::dphi_deta(f, xi, eta + h) - B::dphi_deta(f, xi, eta - h)) / (2 * h);
+                            return (B::dphi_dxi(f, xi, eta + h) - B::dphi_dxi(f, xi, eta - h)) / (2 * h);
+                        };
+                        s += wq * 4.0 * d(l, 1, 0) * d(m, 1, 0);
+                        if (D == 2) s += wq * 4.0 * d(l, 0, 1) * d(m, 0, 1);
+                        if (K >= 2) {
+                            s += wq * 16.0 * d(l, 2, 0) * d(m, 2, 0);
+                            if (D == 2) {
+                                s += wq * 16.0 * d(l, 1, 1) * d(m, 1, 1);
+                                s += wq * 16.0 * d(l, 0, 2) * d(m, 0, 2);
+                            }
+                        }
+                    }
+                smooth[l][m] = s;
+            }
+    }
+};
+
+} // namespace undex::fluid

@@ -1,0 +1,280 @@
+#include "output.hpp"
+
+#include <hdf5.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace undex::fluid {
+
+namespace {
+
+void check(herr_t status, const std::string& what) {
+    if (status < 0) throw std::runtime_error("HDF5: cannot " + what);
+}
+
+void write_attr_string(hid_t obj, const char* name, const std::string& value) {
+    if (H5Aexists(obj, name) > 0) H5Adelete(obj, name);
+    hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, value.size() + 1);
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t attr = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+    check(H5Awrite(attr, type, value.c_str()), std::string("write attribute ") + name);
+    H5Aclose(attr);
+    H5Sclose(space);
+    H5Tclose(type);
+}
+
+template <class T> void write_attr(hid_t obj, const char* name, T value) {
+    const hid_t mem = std::is_same_v<T, double> ? H5T_NATIVE_DOUBLE : H5T_NATIVE_LONG;
+    const hid_t file = std::is_same_v<T, double> ? H5T_IEEE_F64LE : H5T_STD_I64LE;
+    if (H5Aexists(obj, name) > 0) H5Adelete(obj, name);
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t attr = H5Acreate2(obj, name, file, space, H5P_DEFAULT, H5P_DEFAULT);
+    check(H5Awrite(attr, mem, &value), std::string("write attribute ") + name);
+    H5Aclose(attr);
+    H5Sclose(space);
+}
+
+void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const double* data) {
+    if (H5Lexists(loc, name, H5P_DEFAULT) > 0) H5Ldelete(loc, name, H5P_DEFAULT);
+    hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+    hid_t set = H5Dcreate2(loc, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (set < 0) throw std::runtime_error(std::string("HDF5: cannot create dataset ") + name);
+    check(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), std::string("write ") + name);
+    H5Dclose(set);
+    H5Sclose(space);
+}
+
+std::string read_attr_string(hid_t obj, const char* name) {
+    hid_t attr = H5Aopen(obj, name, H5P_DEFAULT);
+    if (attr < 0) throw std::runtime_error(std::string("missing attribute ") + name);
+    hid_t type = H5Aget_type(attr);
+    std::string s(H5Tget_size(type), '\0');
+    hid_t mem = H5Tcopy(H5T_C_S1);
+    H5Tset_size(mem, s.size());
+    H5Aread(attr, mem, s.data());
+    H5Tclose(mem);
+    H5Tclose(type);
+    H5Aclose(attr);
+    s.resize(s.find('\0') == std::string::npos ? s.size() : s.find('\0'));
+    return s;
+}
+
+double read_attr_double(hid_t obj, const char* name) {
+    double v = 0;
+    hid_t attr = H5Aopen(obj, name, H5P_DEFAULT);
+    if (attr < 0) throw std::runtime_error(std::string("missing attribute ") + name);
+    H5Aread(attr, H5T_NATIVE_DOUBLE, &v);
+    H5Aclose(attr);
+    return v;
+}
+
+std::vector<double> read_dataset(hid_t loc, const std::string& name) {
+    hid_t set = H5Dopen2(loc, name.c_str(), H5P_DEFAULT);
+    if (set < 0) throw std::runtime_error("missing dataset " + name);
+    hid_t space = H5Dget_space(set);
+    const hssize_t n = H5Sget_simple_extent_npoints(space);
+    std::vector<double> v(static_cast<size_t>(n));
+    H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Sclose(space);
+    H5Dclose(set);
+    return v;
+}
+
+hid_t open_read(const std::string& path) {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (f < 0) throw std::runtime_error(path + ": cannot open (not an HDF5 output of undex?)");
+    return f;
+}
+
+} // namespace
+
+Output::Output(const std::string& directory, const std::string& case_text, const FluidSolver& solver,
+               const std::vector<GaugePoint>& gauges)
+    : directory_(directory), gauges_(gauges), series_(gauges.size()) {
+    std::filesystem::create_directories(directory);
+    h5_path_ = (std::filesystem::path(directory) / "fluid.h5").string();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    file_ = H5Fcreate(h5_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (file_ < 0) throw std::runtime_error(h5_path_ + ": cannot create the output file");
+    const Mesh& m = solver.mesh();
+    dim_ = m.dim, nx_ = m.nx, ny_ = m.ny;
+    x_min_ = m.x_min, y_min_ = m.y_min, dx_ = m.dx, dy_ = m.dy;
+    cavitation_ = solver.has_cavitation();
+    write_attr_string(file_, "case", case_text);
+    write_attr<long>(file_, "dim", m.dim);
+    write_attr<long>(file_, "nx", m.nx);
+    write_attr<long>(file_, "ny", m.ny);
+    write_attr<long>(file_, "degree", solver.degree());
+    write_attr<long>(file_, "variables", solver.variables());
+    write_attr<long>(file_, "basis_functions", solver.basis_functions());
+    write_attr<double>(file_, "x_min", m.x_min);
+    write_attr<double>(file_, "x_max", m.x_max);
+    write_attr<double>(file_, "y_min", m.y_min);
+    write_attr<double>(file_, "y_max", m.y_max);
+    write_attr_string(file_, "status", "running");
+    for (const char* g : {"fields", "gauges"}) H5Gclose(H5Gcreate2(file_, g, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+    std::vector<double> x(m.nx);
+    for (int i = 0; i < m.nx; ++i) x[i] = m.xc(i);
+    write_dataset(file_, "x", {static_cast<hsize_t>(m.nx)}, x.data());
+    if (m.dim == 2) {
+        std::vector<double> y(m.ny);
+        for (int j = 0; j < m.ny; ++j) y[j] = m.yc(j);
+        write_dataset(file_, "y", {static_cast<hsize_t>(m.ny)}, y.data());
+    }
+    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+}
+
+Output::~Output() {
+    if (file_ >= 0) H5Fclose(file_);
+}
+
+void Output::write_fields(const FluidSolver& solver, bool last_good) {
+    char name[32];
+    std::snprintf(name, sizeof name, "fields/%06zu", snapshots_.size());
+    hid_t g = H5Gcreate2(file_, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (g < 0) throw std::runtime_error(h5_path_ + ": cannot create group " + name);
+    write_attr<double>(g, "time", solver.time());
+    write_attr<long>(g, "step", solver.steps());
+    write_attr<long>(g, "last_good", last_good ? 1 : 0);
+    const long n = static_cast<long>(nx_) * ny_;
+    std::vector<double> rho(n), u(n), v(n), p(n), alpha(cavitation_ ? n : 0);
+    for (int j = 0; j < ny_; ++j)
+        for (int i = 0; i < nx_; ++i) {
+            const Primitive w = solver.cell_average(i, j);
+            const long k = static_cast<long>(j) * nx_ + i;
+            rho[k] = w.rho, u[k] = w.u, v[k] = w.v, p[k] = w.p;
+            if (cavitation_) alpha[k] = solver.void_fraction(w.p);
+        }
+    std::vector<hsize_t> dims = dim_ == 2 ? std::vector<hsize_t>{hsize_t(ny_), hsize_t(nx_)}
+                                          : std::vector<hsize_t>{hsize_t(nx_)};
+    write_dataset(g, "rho", dims, rho.data());
+    write_dataset(g, "u", dims, u.data());
+    if (dim_ == 2) write_dataset(g, "v", dims, v.data());
+    write_dataset(g, "p", dims, p.data());
+    if (cavitation_) write_dataset(g, "void_fraction", dims, alpha.data());
+    const auto c = solver.coefficients();
+    const hsize_t per_cell = static_cast<hsize_t>(solver.variables() * solver.basis_functions());
+    write_dataset(g, "coefficients", {hsize_t(n), per_cell}, c.data());
+    H5Gclose(g);
+    snapshots_.push_back({name, solver.time()});
+    write_gauges();
+    write_xdmf();
+    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+}
+
+void Output::record_gauges(const FluidSolver& solver) {
+    for (size_t k = 0; k < gauges_.size(); ++k) {
+        const Primitive w = solver.evaluate(gauges_[k].x, gauges_[k].y);
+        auto& s = series_[k];
+        s.insert(s.end(), {solver.time(), w.rho, w.u, w.v, w.p});
+    }
+}
+
+void Output::write_gauges() {
+    for (size_t k = 0; k < gauges_.size(); ++k) {
+        const std::string group = "gauges/" + gauges_[k].name;
+        if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) <= 0)
+            H5Gclose(H5Gcreate2(file_, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+        hid_t g = H5Gopen2(file_, group.c_str(), H5P_DEFAULT);
+        write_attr<double>(g, "x", gauges_[k].x);
+        write_attr<double>(g, "y", gauges_[k].y);
+        const auto& s = series_[k];
+        const size_t rows = s.size() / 5;
+        const char* names[5] = {"t", "rho", "u", "v", "p"};
+        for (int col = 0; col < 5; ++col) {
+            std::vector<double> column(rows);
+            for (size_t r = 0; r < rows; ++r) column[r] = s[r * 5 + col];
+            write_dataset(g, names[col], {hsize_t(rows)}, column.data());
+        }
+        H5Gclose(g);
+    }
+    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+}
+
+void Output::set_status(const std::string& status) {
+    write_attr_string(file_, "status", status);
+    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+}
+
+void Output::write_xdmf() const {
+    // A 1D run is shown as a strip one cell high.
+    const int ny_nodes = ny_ + 1;
+    const double dy = dim_ == 2 ? dy_ : dx_;
+    const double y0 = dim_ == 2 ? y_min_ : -0.5 * dx_;
+    std::ostringstream x;
+    x.precision(17);
+    x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+      << "<Grid Name=\"fluid\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    std::vector<std::string> fields = {"rho", "u", "p"};
+    if (dim_ == 2) fields.insert(fields.begin() + 2, "v");
+    if (cavitation_) fields.push_back("void_fraction");
+    const std::string dims = std::to_string(ny_) + " " + std::to_string(nx_);
+    for (const auto& s : snapshots_) {
+        x << "<Grid Name=\"" << s.group << "\" GridType=\"Uniform\">\n<Time Value=\"" << s.time << "\"/>\n"
+          << "<Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"" << ny_nodes << " " << nx_ + 1 << "\"/>\n"
+          << "<Geometry GeometryType=\"ORIGIN_DXDY\">\n"
+          << "<DataItem Format=\"XML\" Dimensions=\"2\">" << y0 << " " << x_min_ << "</DataItem>\n"
+          << "<DataItem Format=\"XML\" Dimensions=\"2\">" << dy << " " << dx_ << "</DataItem>\n</Geometry>\n";
+        for (const auto& f : fields)
+            x << "<Attribute Name=\"" << f << "\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+              << "<DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"" << dims
+              << "\">fluid.h5:/" << s.group << "/" << f << "</DataItem>\n</Attribute>\n";
+        x << "</Grid>\n";
+    }
+    x << "</Grid>\n</Domain>\n</Xdmf>\n";
+    const auto path = std::filesystem::path(directory_) / "fluid.xmf";
+    const auto tmp = std::filesystem::path(directory_) / "fluid.xmf.tmp";
+    std::ofstream(tmp) << x.str();
+    std::filesystem::rename(tmp, path);
+}
+
+StoredRun read_run(const std::string& h5_path) {
+    hid_t f = open_read(h5_path);
+    StoredRun r;
+    r.case_text = read_attr_string(f, "case");
+    hid_t fields = H5Gopen2(f, "fields", H5P_DEFAULT);
+    H5G_info_t info;
+    H5Gget_info(fields, &info);
+    for (hsize_t k = 0; k < info.nlinks; ++k) {
+        char name[64];
+        H5Lget_name_by_idx(fields, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
+        hid_t g = H5Gopen2(fields, name, H5P_DEFAULT);
+        r.groups.push_back(std::string("fields/") + name);
+        r.times.push_back(read_attr_double(g, "time"));
+        H5Gclose(g);
+    }
+    H5Gclose(fields);
+    hid_t gauges = H5Gopen2(f, "gauges", H5P_DEFAULT);
+    H5Gget_info(gauges, &info);
+    for (hsize_t k = 0; k < info.nlinks; ++k) {
+        char name[256];
+        H5Lget_name_by_idx(gauges, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
+        r.gauge_names.push_back(name);
+    }
+    H5Gclose(gauges);
+    H5Fclose(f);
+    return r;
+}
+
+std::vector<double> read_coefficients(const std::string& h5_path, const std::string& group) {
+    hid_t f = open_read(h5_path);
+    auto c = read_dataset(f, group + "/coefficients");
+    H5Fclose(f);
+    return c;
+}
+
+std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name) {
+    hid_t f = open_read(h5_path);
+    std::vector<std::vector<double>> cols;
+    for (const char* c : {"t", "rho", "u", "v", "p"}) cols.push_back(read_dataset(f, "gauges/" + name + "/" + c));
+    H5Fclose(f);
+    return cols;
+}
+
+} // namespace undex::fluid

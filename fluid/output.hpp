@@ -1,0 +1,62 @@
+// HDF5 output of a fluid run with an XDMF sidecar for ParaView. Layout of <dir>/fluid.h5:
+//   attributes  case (text of the case after overrides), dim, nx, ny, degree, variables, basis_functions,
+//               x_min, x_max, y_min, y_max, status ("running", "complete" or "failed: <message>")
+//   /fields/NNNNNN   attributes time, step, last_good (1 for the state written after a failure);
+//                    rho, u, v, p [, void_fraction]: cell averages, shape (ny, nx) in 2D, (nx) in 1D;
+//                    coefficients: modal DG coefficients, shape (cells, variables·basis_functions)
+//   /gauges/NAME     t, rho, u, v, p: time series at the gauge point
+// The file is flushed after every write, so a run that stops leaves every completed output readable.
+#pragma once
+#include "setup.hpp"
+#include "solver.hpp"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace undex::fluid {
+
+class Output {
+  public:
+    // Creates <directory>/fluid.h5 (replacing an older one) and fluid.xmf.
+    Output(const std::string& directory, const std::string& case_text, const FluidSolver& solver,
+           const std::vector<GaugePoint>& gauges);
+    ~Output();
+    Output(const Output&) = delete;
+    Output& operator=(const Output&) = delete;
+
+    void write_fields(const FluidSolver& solver, bool last_good = false);
+    void record_gauges(const FluidSolver& solver);
+    void write_gauges();
+    void set_status(const std::string& status);
+    const std::string& path() const { return h5_path_; }
+
+  private:
+    void write_xdmf() const;
+    std::string directory_, h5_path_;
+    long file_ = -1;
+    std::vector<GaugePoint> gauges_;
+    std::vector<std::vector<double>> series_; // per gauge: t, rho, u, v, p interleaved
+    struct Snapshot {
+        std::string group;
+        double time;
+    };
+    std::vector<Snapshot> snapshots_;
+    int dim_ = 1, nx_ = 0, ny_ = 1;
+    double x_min_ = 0, y_min_ = 0, dx_ = 1, dy_ = 1;
+    bool cavitation_ = false;
+};
+
+// Reading back (for `undex sample` and `undex gauges`).
+struct StoredRun {
+    std::string case_text;
+    std::vector<double> times;
+    std::vector<std::string> groups;
+    std::vector<std::string> gauge_names;
+};
+StoredRun read_run(const std::string& h5_path);
+std::vector<double> read_coefficients(const std::string& h5_path, const std::string& group);
+// Columns t, rho, u, v, p of one gauge.
+std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name);
+
+} // namespace undex::fluid

@@ -1,0 +1,583 @@
+// RKDG scheme for one dimension D, degree K and equation of state Eos (physics.md §1, §3): HLLC fluxes,
+// geometric source, TVD-RK3 (Shu–Osher), and after every stage the troubled-cell indicator, the simple
+// WENO limiter in characteristic variables and the Zhang–Shu positivity scaling.
+#pragma once
+#include "basis.hpp"
+#include "boundary.hpp"
+#include "characteristic.hpp"
+#include "flux_hllc.hpp"
+#include "indicator_tvb.hpp"
+#include "limiter_weno.hpp"
+#include "solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+namespace undex::fluid {
+
+template <int D, int K, class Eos> class Scheme final : public FluidSolver {
+  public:
+    using B = Basis<D, K>;
+    static constexpr int NB = B::NB, NV = D + 2, NC = NV * NB, NQV = B::NQV, NQF = B::NQF;
+    static constexpr int E = NV - 1;
+
+    Scheme(const Mesh& mesh, const Eos& eos, const Settings& s, const std::array<Boundary, 4>& bc)
+        : mesh_(mesh), eos_(eos), set_(s), bc_(bc) {
+        const long n = static_cast<long>(mesh_.padded_cells()) * NC;
+        u_.assign(n, 0.0);
+        u0_.assign(n, 0.0);
+        stage_.assign(n, 0.0);
+        rhs_.assign(n, 0.0);
+        fx_.assign(static_cast<long>(mesh_.nx + 1) * mesh_.ny * NQF * NV, 0.0);
+        if (D == 2) fy_.assign(static_cast<long>(mesh_.ny + 1) * mesh_.nx * NQF * NV, 0.0);
+        troubled_flag_.assign(mesh_.padded_cells(), 0);
+    }
+
+    const Mesh& mesh() const override { return mesh_; }
+    int degree() const override { return K; }
+    int variables() const override { return NV; }
+    int basis_functions() const override { return NB; }
+    double time() const override { return time_; }
+    long steps() const override { return steps_; }
+    long troubled_cells() const override { return troubled_; }
+    bool has_cavitation() const override {
+        if constexpr (Eos::barotropic) return eos_.cavitation;
+        return false;
+    }
+    double void_fraction(double p) const override {
+        if constexpr (Eos::barotropic) return eos_.cavitation ? eos_.cav.void_fraction(p) : 0.0;
+        return 0.0 * p;
+    }
+
+    // Initial data: L2 projection of a pointwise conserved state onto the basis, by quadrature.
+    template <class F> void project(F&& conserved_at) {
+        // Six Gauss points per direction: exact for the polynomials and resolves initial jumps better.
+        constexpr int NP = 6;
+        const double gp[NP] = {-0.9324695142031521, -0.6612093864662645, -0.2386191860831969,
+                               0.2386191860831969,  0.6612093864662645,  0.9324695142031521};
+        const double wp[NP] = {0.1713244923791704, 0.3607615730481386, 0.4679139345726910,
+                               0.4679139345726910, 0.3607615730481386, 0.1713244923791704};
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i) {
+                double* c = cell(u_.data(), i, j);
+                std::fill(c, c + NC, 0.0);
+                for (int a = 0; a < NP; ++a)
+                    for (int b = 0; b < (D == 1 ? 1 : NP); ++b) {
+                        const double xi = gp[a], eta = D == 1 ? 0.0 : gp[b];
+                        const double wq = D == 1 ? wp[a] / 2 : wp[a] * wp[b] / 4;
+                        double q[NV];
+                        conserved_at(mesh_.xc(i) + 0.5 * mesh_.dx * xi, mesh_.yc(j) + 0.5 * mesh_.dy * eta, q);
+                        for (int v = 0; v < NV; ++v)
+                            for (int l = 0; l < NB; ++l) c[v * NB + l] += wq * q[v] * B::phi(l, xi, eta) / B::norm(l);
+                    }
+            }
+        limit(u_, 0.0, "initial data");
+    }
+
+    double stable_dt() const override {
+        double inv = 0.0;
+#pragma omp parallel for reduction(max : inv) schedule(static)
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i) {
+                const double* c = cell(u_.data(), i, j);
+                double q[NV];
+                for (int v = 0; v < NV; ++v) q[v] = c[v * NB];
+                const Primitive w = primitive(q);
+                const double a = eos_.sound_speed(w.rho, w.p);
+                double r = (std::abs(w.u) + a) / mesh_.dx;
+                if (D == 2) r = std::max(r, (std::abs(w.v) + a) / mesh_.dy);
+                inv = std::max(inv, r);
+            }
+        return set_.cfl / inv;
+    }
+
+    void step(double dt) override {
+        u0_ = u_;
+        troubled_ = 0;
+        try {
+            // Stage 1: U1 = U + dt L(U)
+            compute_rhs(u_, time_);
+            axpy(stage_, 1.0, u0_, 0.0, u0_, dt);
+            limit(stage_, time_ + dt, "stage 1");
+            // Stage 2: U2 = 3/4 U + 1/4 (U1 + dt L(U1))
+            compute_rhs(stage_, time_ + dt);
+            axpy(u_, 0.75, u0_, 0.25, stage_, 0.25 * dt);
+            limit(u_, time_ + 0.5 * dt, "stage 2");
+            // Stage 3: U = 1/3 U + 2/3 (U2 + dt L(U2))
+            compute_rhs(u_, time_ + 0.5 * dt);
+            axpy(stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, u_, 2.0 / 3.0 * dt);
+            limit(stage_, time_ + dt, "stage 3");
+        } catch (const SolverFailure& f) {
+            u_ = u0_;
+            std::ostringstream s;
+            s << f.what() << " in step " << steps_ + 1 << " from t = " << time_ << " s with dt = " << dt << " s";
+            throw SolverFailure(s.str());
+        }
+        std::swap(u_, stage_);
+        time_ += dt;
+        ++steps_;
+    }
+
+    std::vector<double> coefficients() const override {
+        std::vector<double> out(static_cast<long>(mesh_.nx) * mesh_.ny * NC);
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i) {
+                const double* c = cell(u_.data(), i, j);
+                std::copy(c, c + NC, out.begin() + (static_cast<long>(j) * mesh_.nx + i) * NC);
+            }
+        return out;
+    }
+
+    void set_coefficients(const std::vector<double>& in, double time) override {
+        if (in.size() != static_cast<size_t>(mesh_.nx) * mesh_.ny * NC)
+            throw std::runtime_error("coefficient array does not match the mesh and degree");
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i)
+                std::copy_n(in.begin() + (static_cast<long>(j) * mesh_.nx + i) * NC, NC, cell(u_.data(), i, j));
+        time_ = time;
+    }
+
+    Primitive evaluate(double x, double y) const override {
+        int i = static_cast<int>(std::floor((x - mesh_.x_min) / mesh_.dx));
+        int j = D == 2 ? static_cast<int>(std::floor((y - mesh_.y_min) / mesh_.dy)) : 0;
+        i = std::clamp(i, 0, mesh_.nx - 1);
+        j = std::clamp(j, 0, mesh_.ny - 1);
+        const double xi = std::clamp(2.0 * (x - mesh_.xc(i)) / mesh_.dx, -1.0, 1.0);
+        const double eta = D == 2 ? std::clamp(2.0 * (y - mesh_.yc(j)) / mesh_.dy, -1.0, 1.0) : 0.0;
+        const double* c = cell(u_.data(), i, j);
+        double q[NV];
+        for (int v = 0; v < NV; ++v) {
+            q[v] = 0;
+            for (int l = 0; l < NB; ++l) q[v] += c[v * NB + l] * B::phi(l, xi, eta);
+        }
+        return primitive(q);
+    }
+
+    Primitive cell_average(int i, int j) const override {
+        const double* c = cell(u_.data(), i, j);
+        double q[NV];
+        for (int v = 0; v < NV; ++v) q[v] = c[v * NB];
+        return primitive(q);
+    }
+
+    std::vector<double> totals() const override {
+        std::vector<double> t(NV, 0.0);
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i)
+                for (int v = 0; v < NV; ++v) t[v] += cell(u_.data(), i, j)[v * NB] * mesh_.dx * (D == 2 ? mesh_.dy : 1.0);
+        return t;
+    }
+
+  private:
+    Mesh mesh_;
+    Eos eos_;
+    Settings set_;
+    std::array<Boundary, 4> bc_;
+    BasisTables<D, K> tab_;
+    WenoTables<D, K> weno_;
+    std::vector<double> u_, u0_, stage_, rhs_, fx_, fy_;
+    std::vector<char> troubled_flag_;
+    double time_ = 0.0;
+    long steps_ = 0;
+    long troubled_ = 0;
+
+    double* cell(double* U, int i, int j) const { return U + static_cast<long>(mesh_.index(i, j)) * NC; }
+    const double* cell(const double* U, int i, int j) const {
+        return U + static_cast<long>(mesh_.index(i, j)) * NC;
+    }
+
+    Primitive primitive(const double* q) const {
+        Primitive w;
+        w.rho = q[0];
+        w.u = q[1] / q[0];
+        w.v = D == 2 ? q[2] / q[0] : 0.0;
+        w.p = eos_.pressure(w.rho, q[E] - 0.5 * w.rho * (w.u * w.u + w.v * w.v));
+        return w;
+    }
+    double pressure(const double* q) const {
+        double ke = 0;
+        for (int d = 0; d < D; ++d) ke += q[1 + d] * q[1 + d];
+        return eos_.pressure(q[0], q[E] - 0.5 * ke / q[0]);
+    }
+
+    // out = a·x + b·(y + dt·rhs)  (b·dt folded into `bdt`)
+    void axpy(std::vector<double>& out, double a, const std::vector<double>& x, double b,
+              const std::vector<double>& y, double bdt) {
+        const long n = static_cast<long>(out.size());
+        const double* r = rhs_.data();
+#pragma omp parallel for schedule(static)
+        for (long k = 0; k < n; ++k) out[k] = a * x[k] + b * y[k] + bdt * r[k];
+    }
+
+    template <int Dir> static void eval_face(const double* c, const double (*phi)[NB], int g, double* q) {
+        for (int v = 0; v < NV; ++v) {
+            double s = 0;
+            for (int l = 0; l < NB; ++l) s += c[v * NB + l] * phi[g][l];
+            q[v] = s;
+        }
+    }
+
+    void compute_rhs(std::vector<double>& Uvec, double t) {
+        double* U = Uvec.data();
+        fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
+        const int nx = mesh_.nx, ny = mesh_.ny;
+        // Fluxes through x faces: face i lies between cells i − 1 and i.
+#pragma omp parallel for schedule(static)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i <= nx; ++i) {
+                const double* cl = cell(U, i - 1, j);
+                const double* cr = cell(U, i, j);
+                double* f = fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV;
+                for (int g = 0; g < NQF; ++g) {
+                    double ql[NV], qr[NV];
+                    eval_face<0>(cl, tab_.face[0][1], g, ql);
+                    eval_face<0>(cr, tab_.face[0][0], g, qr);
+                    hllc_flux<NV, 0>(eos_, ql, pressure(ql), qr, pressure(qr), f + g * NV);
+                }
+            }
+        if constexpr (D == 2) {
+            // Fluxes through y faces: face j lies between cells j − 1 and j.
+#pragma omp parallel for schedule(static)
+            for (int j = 0; j <= ny; ++j)
+                for (int i = 0; i < nx; ++i) {
+                    const double* cb = cell(U, i, j - 1);
+                    const double* ct = cell(U, i, j);
+                    double* f = fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
+                    for (int g = 0; g < NQF; ++g) {
+                        double qb[NV], qt[NV];
+                        eval_face<1>(cb, tab_.face[1][1], g, qb);
+                        eval_face<1>(ct, tab_.face[1][0], g, qt);
+                        hllc_flux<NV, 1>(eos_, qb, pressure(qb), qt, pressure(qt), f + g * NV);
+                    }
+                }
+        }
+        const double gx = 2.0 / mesh_.dx, gy = 2.0 / mesh_.dy;
+        const double idx = 1.0 / mesh_.dx, idy = 1.0 / mesh_.dy;
+        const double alpha = mesh_.alpha;
+#pragma omp parallel for schedule(static)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                const double* c = cell(U, i, j);
+                double acc[NV][NB] = {};
+                {
+                    for (int q = 0; q < NQV; ++q) {
+                        double s[NV];
+                        for (int v = 0; v < NV; ++v) {
+                            double x = 0;
+                            for (int l = 0; l < NB; ++l) x += c[v * NB + l] * tab_.phiv[q][l];
+                            s[v] = x;
+                        }
+                        const double rho = s[0], u = s[1] / rho, vv = D == 2 ? s[2] / rho : 0.0;
+                        const double p = eos_.pressure(rho, s[E] - 0.5 * rho * (u * u + vv * vv));
+                        double F[NV], G[NV], S[NV];
+                        for (int v = 0; v < NV; ++v) F[v] = s[v] * u;
+                        F[1] += p;
+                        F[E] += p * u;
+                        if constexpr (D == 2) {
+                            for (int v = 0; v < NV; ++v) G[v] = s[v] * vv;
+                            G[2] += p;
+                            G[E] += p * vv;
+                        }
+                        const double w = tab_.wv[q];
+                        if (alpha != 0.0) {
+                            // S = −(α/x)(ρu, ρu², ρuv, (E+p)u): the x flux without its pressure term.
+                            const double x = mesh_.xc(i) + 0.5 * mesh_.dx * tab_.xiv[q];
+                            const double f = -alpha / x;
+                            for (int v = 0; v < NV; ++v) S[v] = f * F[v];
+                            S[1] = f * (F[1] - p);
+                            for (int v = 0; v < NV; ++v)
+                                for (int l = 0; l < NB; ++l) acc[v][l] += w * S[v] * tab_.phiv[q][l];
+                        }
+                        if constexpr (K > 0) {
+                            for (int v = 0; v < NV; ++v)
+                                for (int l = 1; l < NB; ++l) {
+                                    double x = F[v] * gx * tab_.dxiv[q][l];
+                                    if constexpr (D == 2) x += G[v] * gy * tab_.detav[q][l];
+                                    acc[v][l] += w * x;
+                                }
+                        }
+                    }
+                }
+                const double* fl = fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV;
+                const double* fr = fl + NQF * NV;
+                for (int g = 0; g < NQF; ++g) {
+                    const double wf = tab_.wf[g];
+                    for (int v = 0; v < NV; ++v)
+                        for (int l = 0; l < NB; ++l)
+                            acc[v][l] += idx * wf *
+                                         (fl[g * NV + v] * tab_.face[0][0][g][l] - fr[g * NV + v] * tab_.face[0][1][g][l]);
+                }
+                if constexpr (D == 2) {
+                    const double* fb = fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
+                    const double* ft = fb + static_cast<long>(nx) * NQF * NV;
+                    for (int g = 0; g < NQF; ++g) {
+                        const double wf = tab_.wf[g];
+                        for (int v = 0; v < NV; ++v)
+                            for (int l = 0; l < NB; ++l)
+                                acc[v][l] += idy * wf *
+                                             (fb[g * NV + v] * tab_.face[1][0][g][l] - ft[g * NV + v] * tab_.face[1][1][g][l]);
+                    }
+                }
+                double* r = cell(rhs_.data(), i, j);
+                for (int v = 0; v < NV; ++v)
+                    for (int l = 0; l < NB; ++l) r[v * NB + l] = acc[v][l] * tab_.inv_norm[l];
+            }
+    }
+
+    // Indicator + WENO + positivity on Uvec; throws SolverFailure for a cell that cannot be made admissible.
+    void limit(std::vector<double>& Uvec, double t, const char* stage) {
+        double* U = Uvec.data();
+        if (K > 0 && set_.limiter == Limiter::Weno && set_.indicator != Indicator::None) {
+            fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
+            mark_troubled(U);
+            weno(U);
+        }
+        positivity(U, t, stage); // always: it also detects inadmissible cell averages
+    }
+
+    void mark_troubled(const double* U) {
+        const int nx = mesh_.nx, ny = mesh_.ny;
+        const double lx = mesh_.x_max - mesh_.x_min, ly = mesh_.y_max - mesh_.y_min;
+        const double hx2 = (mesh_.dx / lx) * (mesh_.dx / lx), hy2 = (mesh_.dy / ly) * (mesh_.dy / ly);
+        long count = 0;
+#pragma omp parallel for reduction(+ : count) schedule(static)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                bool bad = set_.indicator == Indicator::All;
+                const double* c = cell(U, i, j);
+                for (int dir = 0; dir < D && !bad; ++dir) {
+                    const double* lo = dir == 0 ? cell(U, i - 1, j) : cell(U, i, j - 1);
+                    const double* hi = dir == 0 ? cell(U, i + 1, j) : cell(U, i, j + 1);
+                    const double h2 = dir == 0 ? hx2 : hy2;
+                    for (int v : {0, E}) {
+                        const double* cv = c + v * NB;
+                        const double avg = cv[0];
+                        // Face-centre values on the high and low faces of this direction.
+                        double up = 0, dn = 0;
+                        for (int l = 1; l < NB; ++l) {
+                            const int pw = dir == 0 ? B::px(l) : B::py(l);
+                            const int po = dir == 0 ? B::py(l) : B::px(l);
+                            if (pw == 0) continue;
+                            const double val = po == 0 ? 1.0 : (po == 1 ? 0.0 : -1.0 / 3.0);
+                            const double f = B::p1(pw, 1.0) * val;
+                            const double fm = B::p1(pw, -1.0) * val;
+                            up += cv[l] * f;
+                            dn += cv[l] * fm;
+                        }
+                        // Modes constant along dir shift both faces equally and are left out.
+                        const double fwd = hi[v * NB] - avg, bwd = avg - lo[v * NB];
+                        const double thr = set_.tvb_m * h2 * std::abs(avg);
+                        if (tvb_modifies(up, fwd, bwd, thr) || tvb_modifies(-dn, fwd, bwd, thr)) {
+                            bad = true;
+                            break;
+                        }
+                    }
+                }
+                troubled_flag_[mesh_.index(i, j)] = bad;
+                count += bad;
+            }
+        troubled_ += count;
+    }
+
+    void weno(double* U) {
+        const int nx = mesh_.nx, ny = mesh_.ny;
+        // Limited polynomials go to rhs_ (free at this point) and are copied back, so that every cell is
+        // limited from its neighbours' unlimited polynomials.
+        double* out = rhs_.data();
+        const double g_nb = set_.weno_neighbour_weight, eps = set_.weno_epsilon;
+        const double g_c = 1.0 - 2 * D * g_nb;
+#pragma omp parallel for schedule(dynamic, 16)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                if (!troubled_flag_[mesh_.index(i, j)]) continue;
+                const double* c = cell(U, i, j);
+                // Candidate polynomials: own, then neighbours −x, +x, −y, +y shifted to this cell's average.
+                constexpr int NCAND = 1 + 2 * D;
+                double cand[NCAND][NV][NB];
+                for (int v = 0; v < NV; ++v)
+                    for (int l = 0; l < NB; ++l) cand[0][v][l] = c[v * NB + l];
+                for (int nb = 0; nb < 2 * D; ++nb) {
+                    const int ni = i + (nb == 0 ? -1 : nb == 1 ? 1 : 0);
+                    const int nj = j + (nb == 2 ? -1 : nb == 3 ? 1 : 0);
+                    const double* n = cell(U, ni, nj);
+                    for (int v = 0; v < NV; ++v) {
+                        for (int l = 0; l < NB; ++l) {
+                            double s = 0;
+                            for (int m = 0; m < NB; ++m) s += weno_.shift[nb][l][m] * n[v * NB + m];
+                            cand[1 + nb][v][l] = s;
+                        }
+                        cand[1 + nb][v][0] = c[v * NB];
+                    }
+                }
+                double q[NV];
+                for (int v = 0; v < NV; ++v) q[v] = c[v * NB];
+                const Primitive w = primitive(q);
+                const double a = eos_.sound_speed(w.rho, w.p);
+                const double vel[2] = {w.u, w.v};
+                double result[NV][NB] = {};
+                for (int dir = 0; dir < D; ++dir) {
+                    const Eigenvectors<NV> ev = eigenvectors(dir, w.rho, vel, a);
+                    double limited[NV][NB];
+                    for (int m = 0; m < NV; ++m) {
+                        double ch[NCAND][NB];
+                        for (int k = 0; k < NCAND; ++k)
+                            for (int l = 0; l < NB; ++l) {
+                                double s = 0;
+                                for (int v = 0; v < NV; ++v) s += ev.L[m][v] * cand[k][v][l];
+                                ch[k][l] = s;
+                            }
+                        double wsum = 0, wk[NCAND];
+                        for (int k = 0; k < NCAND; ++k) {
+                            double beta = 0;
+                            for (int l = 1; l < NB; ++l)
+                                for (int n = 1; n < NB; ++n) beta += ch[k][l] * weno_.smooth[l][n] * ch[k][n];
+                            const double lin = k == 0 ? g_c : g_nb;
+                            wk[k] = lin / ((eps + beta) * (eps + beta));
+                            wsum += wk[k];
+                        }
+                        limited[m][0] = ch[0][0];
+                        for (int l = 1; l < NB; ++l) {
+                            double s = 0;
+                            for (int k = 0; k < NCAND; ++k) s += wk[k] * ch[k][l];
+                            limited[m][l] = s / wsum;
+                        }
+                    }
+                    for (int v = 0; v < NV; ++v)
+                        for (int l = 0; l < NB; ++l) {
+                            double s = 0;
+                            for (int m = 0; m < NV; ++m) s += ev.R[v][m] * limited[m][l];
+                            result[v][l] += s / D;
+                        }
+                }
+                double* o = cell(out, i, j);
+                for (int v = 0; v < NV; ++v) {
+                    o[v * NB] = c[v * NB]; // the average is kept exactly
+                    for (int l = 1; l < NB; ++l) o[v * NB + l] = result[v][l];
+                }
+                // Keep the density of the limited polynomial within the range of this and the neighbouring
+                // cell averages, as a MUSCL reconstruction would: WENO alone does not rule out overshoots,
+                // and barotropic water turns a 1 % density overshoot into tens of MPa.
+                double lo = c[0], hi = c[0];
+                for (int nb = 0; nb < 2 * D; ++nb) {
+                    const int ni = i + (nb == 0 ? -1 : nb == 1 ? 1 : 0);
+                    const int nj = j + (nb == 2 ? -1 : nb == 3 ? 1 : 0);
+                    lo = std::min(lo, cell(U, ni, nj)[0]);
+                    hi = std::max(hi, cell(U, ni, nj)[0]);
+                }
+                double theta = 1.0;
+                for_each_point(o, [&](const double* qp) {
+                    if (qp[0] > hi) theta = std::min(theta, (hi - c[0]) / (qp[0] - c[0]));
+                    if (qp[0] < lo) theta = std::min(theta, (lo - c[0]) / (qp[0] - c[0]));
+                });
+                if (theta < 1.0)
+                    for (int v = 0; v < NV; ++v)
+                        for (int l = 1; l < NB; ++l) o[v * NB + l] *= theta;
+            }
+#pragma omp parallel for schedule(static)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i)
+                if (troubled_flag_[mesh_.index(i, j)]) std::copy_n(cell(out, i, j), NC, cell(U, i, j));
+    }
+
+    Eigenvectors<NV> eigenvectors(int dir, double rho, const double* vel, double a) const {
+        constexpr int Y = D == 2 ? 1 : 0;
+        if constexpr (Eos::barotropic)
+            return dir == 0 ? barotropic_eigenvectors<NV, 0>(vel, a) : barotropic_eigenvectors<NV, Y>(vel, a);
+        else
+            return dir == 0 ? euler_eigenvectors<NV, 0>(rho, vel, a, eos_.gruneisen())
+                            : euler_eigenvectors<NV, Y>(rho, vel, a, eos_.gruneisen());
+    }
+
+    [[noreturn]] void fail_cell(int i, int j, const std::string& what, double t) const {
+        std::ostringstream s;
+        s.precision(6);
+        s << what << " in cell (" << i;
+        if (D == 2) s << ", " << j;
+        s << ") at x = " << mesh_.xc(i);
+        if (D == 2) s << ", y = " << mesh_.yc(j);
+        s << ", t = " << t << " s";
+        throw SolverFailure(s.str());
+    }
+
+    // Zhang–Shu scaling towards the cell average so that ρ > 0 and p + P∞ > 0 at every quadrature point;
+    // a cell whose average is itself inadmissible (or NaN) is a failure.
+    void positivity(double* U, double t, const char* stage) {
+        const int nx = mesh_.nx, ny = mesh_.ny;
+        int bad_i = -1, bad_j = -1;
+        std::string bad_what;
+        const bool scale = set_.positivity && K > 0;
+        const double eps = set_.positivity_epsilon;
+#pragma omp parallel for schedule(static)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                double* c = cell(U, i, j);
+                double avg[NV];
+                bool finite = true;
+                for (int v = 0; v < NV; ++v) {
+                    avg[v] = c[v * NB];
+                    for (int l = 0; l < NB; ++l) finite = finite && std::isfinite(c[v * NB + l]);
+                }
+                std::string what;
+                double p_avg = 0;
+                if (!finite) what = "non-finite value (NaN or Inf)";
+                else if (!(avg[0] > 0)) what = "non-positive density " + std::to_string(avg[0]) + " kg/m^3";
+                else {
+                    p_avg = pressure(avg);
+                    if (!(eos_.pressure_margin(p_avg) > 0) || !std::isfinite(p_avg))
+                        what = "pressure " + std::to_string(p_avg) + " Pa at or below -P_inf";
+                }
+                if (!what.empty()) {
+#pragma omp critical
+                    if (bad_i < 0 || j * nx + i < bad_j * nx + bad_i) {
+                        bad_i = i, bad_j = j;
+                        bad_what = what + " after limiting (" + stage + ")";
+                    }
+                    continue;
+                }
+                if (!scale) continue;
+                // Density.
+                const double rho_floor = eps * avg[0];
+                double rho_min = avg[0];
+                for_each_point(c, [&](const double* q) { rho_min = std::min(rho_min, q[0]); });
+                if (rho_min < rho_floor) {
+                    const double theta = (avg[0] - rho_floor) / (avg[0] - rho_min);
+                    for (int l = 1; l < NB; ++l) c[l] *= theta;
+                }
+                // Pressure (stiffened gas only: p + P∞ is concave in U, so the linear estimate is safe).
+                if constexpr (!Eos::barotropic) {
+                    const double m_avg = eos_.pressure_margin(p_avg);
+                    const double m_floor = eps * m_avg;
+                    double theta = 1.0;
+                    for_each_point(c, [&](const double* q) {
+                        const double m = eos_.pressure_margin(pressure(q));
+                        if (m < m_floor) theta = std::min(theta, (m_avg - m_floor) / (m_avg - m));
+                    });
+                    if (theta < 1.0)
+                        for (int v = 0; v < NV; ++v)
+                            for (int l = 1; l < NB; ++l) c[v * NB + l] *= theta;
+                }
+            }
+        if (bad_i >= 0) fail_cell(bad_i, bad_j, bad_what, t);
+    }
+
+    // Calls f(q) with the conserved state at every volume and face quadrature point of cell c.
+    template <class F> void for_each_point(const double* c, F&& f) const {
+        auto eval = [&](const double* phi) {
+            double q[NV];
+            for (int v = 0; v < NV; ++v) {
+                double s = 0;
+                for (int l = 0; l < NB; ++l) s += c[v * NB + l] * phi[l];
+                q[v] = s;
+            }
+            f(q);
+        };
+        for (int q = 0; q < NQV; ++q) eval(tab_.phiv[q]);
+        for (int dir = 0; dir < D; ++dir)
+            for (int side = 0; side < 2; ++side)
+                for (int g = 0; g < NQF; ++g) eval(tab_.face[dir][side][g]);
+    }
+};
+
+} // namespace undex::fluid

@@ -1,0 +1,397 @@
+#include "setup.hpp"
+
+#include "case.pb.h"
+#include "case_file.hpp"
+#include "eos_stiffened_gas.hpp"
+#include "eos_tait.hpp"
+#include "scheme.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <unistd.h>
+
+namespace undex::fluid {
+
+namespace cfg = undex::config;
+
+const std::vector<NamedOption>& indicator_names() {
+    static const std::vector<NamedOption> names = {
+        {"tvb", "TVB minmod indicator on density and energy (threshold numerics.tvb_m)"},
+        {"all", "every cell is troubled (limiter everywhere)"},
+        {"none", "no cell is troubled (no WENO limiting)"},
+    };
+    return names;
+}
+
+const std::vector<NamedOption>& limiter_names() {
+    static const std::vector<NamedOption> names = {
+        {"weno", "simple WENO limiter of Zhong and Shu (2013) in characteristic variables"},
+        {"none", "no limiting of troubled cells"},
+    };
+    return names;
+}
+
+namespace {
+
+bool is_2d(cfg::Geometry g) { return g == cfg::PLANAR_2D || g == cfg::AXISYMMETRIC_2D; }
+int alpha_of(cfg::Geometry g) {
+    switch (g) {
+    case cfg::CYLINDRICAL_1D:
+    case cfg::AXISYMMETRIC_2D: return 1;
+    case cfg::SPHERICAL_1D: return 2;
+    default: return 0;
+    }
+}
+
+std::string choices(const std::vector<NamedOption>& names) {
+    std::string s;
+    for (const auto& n : names) s += (s.empty() ? "" : ", ") + std::string(n.name);
+    return s;
+}
+bool known(const std::vector<NamedOption>& names, const std::string& v) {
+    return std::any_of(names.begin(), names.end(), [&](const NamedOption& n) { return v == n.name; });
+}
+
+int material_index(const cfg::Case& c, const std::string& name) {
+    for (int m = 0; m < c.materials_size(); ++m)
+        if (c.materials(m).name() == name) return m;
+    return -1;
+}
+
+// Lowest admissible pressure of a material: p > −P∞ (stiffened gas) or ρ > 0 (Tait: p > A − B).
+double pressure_bound(const cfg::Material& m) {
+    if (m.has_stiffened_gas()) return -m.stiffened_gas().p_inf();
+    return m.tait().a() - m.tait().b();
+}
+
+bool inside(const cfg::Region& r, double x, double y) {
+    if (r.has_box())
+        return x >= r.box().x_min() && x <= r.box().x_max() && y >= r.box().y_min() && y <= r.box().y_max();
+    if (r.has_ball()) {
+        const double dx = x - r.ball().x(), dy = y - r.ball().y();
+        return dx * dx + dy * dy <= r.ball().radius() * r.ball().radius();
+    }
+    return true;
+}
+
+// Whether a directory could be created or written by this user, without creating anything.
+bool writable_directory(const std::filesystem::path& dir) {
+    namespace fs = std::filesystem;
+    fs::path p = fs::absolute(dir);
+    while (!p.empty()) {
+        std::error_code ec;
+        if (fs::exists(p, ec)) return fs::is_directory(p, ec) && access(p.c_str(), W_OK | X_OK) == 0;
+        if (p == p.parent_path()) break;
+        p = p.parent_path();
+    }
+    return false;
+}
+
+void validate_boundary(const CaseFile& cf, const cfg::Boundary& b, const std::string& path) {
+    if (b.type() == cfg::Boundary::TYPE_UNSET) cf.fail(path + ".type", "boundary type is not set");
+    if (b.type() == cfg::Boundary::PRESSURE) {
+        if (!b.has_pressure()) cf.fail(path, "a PRESSURE boundary needs a 'pressure' history");
+        const auto& h = b.pressure();
+        if (h.table_t_size() != h.table_p_size())
+            cf.fail(path + ".pressure.table_p", "table_t and table_p must have the same length");
+        for (int k = 1; k < h.table_t_size(); ++k)
+            if (!(h.table_t(k) > h.table_t(k - 1)))
+                cf.fail(path + ".pressure.table_t", "times must increase (entry " + std::to_string(k) + ")");
+        if (h.table_t_size() == 0 && !(h.theta() > 0))
+            cf.fail(path + ".pressure.theta", "decay time theta must be positive");
+    } else if (b.has_pressure()) {
+        cf.fail(path + ".pressure", "a pressure history is only used by PRESSURE boundaries");
+    }
+}
+
+} // namespace
+
+void validate(const CaseFile& cf) {
+    const cfg::Case& c = cf.get();
+    if (c.geometry() == cfg::GEOMETRY_UNSET) cf.fail("geometry", "geometry is not set");
+    const bool two_d = is_2d(c.geometry());
+    const auto& d = c.domain();
+    if (!(d.x_max() > d.x_min())) cf.fail("domain.x_max", "x_max must be greater than x_min");
+    if (d.cells_x() < 1) cf.fail("domain.cells_x", "needs at least one cell");
+    if (alpha_of(c.geometry()) > 0 && d.x_min() < 0)
+        cf.fail("domain.x_min", "the radius x must be non-negative in a cylindrical, spherical or axisymmetric case");
+    if (two_d) {
+        if (!d.has_y_min() || !d.has_y_max()) cf.fail("domain", "a 2D case needs y_min and y_max");
+        if (!(d.y_max() > d.y_min())) cf.fail("domain.y_max", "y_max must be greater than y_min");
+        if (d.cells_y() < 1) cf.fail("domain.cells_y", "a 2D case needs cells_y ≥ 1");
+    } else if (d.has_y_min() || d.has_y_max() || d.has_cells_y()) {
+        cf.fail(d.has_cells_y() ? "domain.cells_y" : "domain.y_min", "a 1D case has no y extent");
+    }
+
+    // Materials.
+    if (c.materials_size() == 0) cf.fail("materials", "no material is defined");
+    for (int m = 0; m < c.materials_size(); ++m) {
+        const auto& mat = c.materials(m);
+        const std::string p = "materials[" + std::to_string(m) + "]";
+        if (material_index(c, mat.name()) != m) cf.fail(p + ".name", "material '" + mat.name() + "' is defined twice");
+        if (mat.has_stiffened_gas()) {
+            if (!(mat.stiffened_gas().gamma() > 1)) cf.fail(p + ".stiffened_gas.gamma", "gamma must be > 1");
+            if (!(mat.stiffened_gas().p_inf() >= 0)) cf.fail(p + ".stiffened_gas.p_inf", "p_inf must be ≥ 0");
+        } else if (mat.has_tait()) {
+            const auto& t = mat.tait();
+            if (!(t.gamma() > 1)) cf.fail(p + ".tait.gamma", "gamma must be > 1");
+            if (!(t.b() > 0)) cf.fail(p + ".tait.B", "B must be positive");
+            if (!(t.rho0() > 0)) cf.fail(p + ".tait.rho0", "rho0 must be positive");
+            if (!(t.b() > t.a())) cf.fail(p + ".tait.A", "A must be smaller than B");
+        } else {
+            cf.fail(p, "material '" + mat.name() + "' needs a model: stiffened_gas or tait");
+        }
+    }
+
+    // Regions.
+    if (c.regions_size() == 0) cf.fail("regions", "no initial region is defined");
+    if (c.regions(0).shape_case() != cfg::Region::SHAPE_NOT_SET)
+        cf.fail("regions[0]", "the first region must cover the whole domain (no box or ball)");
+    for (int r = 0; r < c.regions_size(); ++r) {
+        const auto& reg = c.regions(r);
+        const std::string p = "regions[" + std::to_string(r) + "]";
+        const int m = material_index(c, reg.material());
+        if (m < 0) cf.fail(p + ".material", "unknown material '" + reg.material() + "'");
+        if (reg.material() != c.regions(0).material())
+            cf.fail(p + ".material", "material '" + reg.material() + "' differs from '" + c.regions(0).material() +
+                                         "' of regions[0]: two fluids need the gas–water interface (level set), "
+                                         "which this version does not have");
+        if (!(reg.rho() > 0)) cf.fail(p + ".rho", "density must be positive (got " + std::to_string(reg.rho()) + ")");
+        const double pmin = pressure_bound(c.materials(m));
+        if (!(reg.p() > pmin))
+            cf.fail(p + ".p", "pressure " + std::to_string(reg.p()) + " Pa must exceed " + std::to_string(pmin) +
+                                  " Pa (−P∞ of '" + reg.material() + "')");
+        if (reg.has_ball() && !(reg.ball().radius() > 0)) cf.fail(p + ".ball.radius", "radius must be positive");
+        if (!two_d && reg.has_v() && reg.v() != 0) cf.fail(p + ".v", "a 1D case has no v velocity");
+    }
+
+    // Boundaries.
+    const auto& b = c.boundaries();
+    validate_boundary(cf, b.x_min(), "boundaries.x_min");
+    validate_boundary(cf, b.x_max(), "boundaries.x_max");
+    if (two_d) {
+        if (!b.has_y_min() || !b.has_y_max()) cf.fail("boundaries", "a 2D case needs y_min and y_max boundaries");
+        validate_boundary(cf, b.y_min(), "boundaries.y_min");
+        validate_boundary(cf, b.y_max(), "boundaries.y_max");
+        if ((b.y_min().type() == cfg::Boundary::PERIODIC) != (b.y_max().type() == cfg::Boundary::PERIODIC))
+            cf.fail("boundaries.y_max", "periodic boundaries come in pairs: y_min and y_max");
+    } else if (b.has_y_min() || b.has_y_max()) {
+        cf.fail("boundaries.y_min", "a 1D case has no y boundaries");
+    }
+    if ((b.x_min().type() == cfg::Boundary::PERIODIC) != (b.x_max().type() == cfg::Boundary::PERIODIC))
+        cf.fail("boundaries.x_max", "periodic boundaries come in pairs: x_min and x_max");
+    if (alpha_of(c.geometry()) > 0 && d.x_min() == 0 && b.x_min().type() != cfg::Boundary::SYMMETRY)
+        cf.fail("boundaries.x_min", "the axis or centre x = 0 needs a SYMMETRY boundary");
+    if (alpha_of(c.geometry()) > 0 && b.x_min().type() == cfg::Boundary::PERIODIC)
+        cf.fail("boundaries.x_min", "a radial direction cannot be periodic");
+
+    // Numerics.
+    const auto& n = c.numerics();
+    if (n.degree() < 0 || n.degree() > 2) cf.fail("numerics.degree", "degree must be 0, 1 or 2");
+    if (!(n.cfl() > 0 && n.cfl() <= 1))
+        cf.fail("numerics.cfl", "CFL must lie in (0, 1] (got " + std::to_string(n.cfl()) +
+                                    "); RK3-DG is stable for roughly CFL ≤ 1/(2k+1)");
+    if (!known(indicator_names(), n.indicator()))
+        cf.fail("numerics.indicator", "unknown indicator '" + n.indicator() + "'; choose one of " + choices(indicator_names()));
+    if (!known(limiter_names(), n.limiter()))
+        cf.fail("numerics.limiter", "unknown limiter '" + n.limiter() + "'; choose one of " + choices(limiter_names()));
+    if (!(n.tvb_m() >= 0)) cf.fail("numerics.tvb_m", "must be ≥ 0");
+    if (!(n.weno_neighbour_weight() > 0 && n.weno_neighbour_weight() < 0.25))
+        cf.fail("numerics.weno_neighbour_weight", "must lie in (0, 0.25)");
+    if (!(n.weno_epsilon() > 0)) cf.fail("numerics.weno_epsilon", "must be positive");
+    if (!(n.positivity_epsilon() > 0 && n.positivity_epsilon() < 1)) cf.fail("numerics.positivity_epsilon", "must lie in (0, 1)");
+    if (n.threads() < 0) cf.fail("numerics.threads", "must be ≥ 0");
+    if (n.max_steps() < 1) cf.fail("numerics.max_steps", "must be ≥ 1");
+
+    // Cavitation.
+    if (c.cavitation().enabled()) {
+        const auto& cv = c.cavitation();
+        const auto& mat = c.materials(material_index(c, c.regions(0).material()));
+        if (!mat.has_tait() || mat.tait().as_stiffened_gas())
+            cf.fail("cavitation.enabled", "the cavitation model needs barotropic Tait water (material '" + mat.name() + "' is not)");
+        if (!(cv.p_cav() > 0)) cf.fail("cavitation.p_cav", "must be positive");
+        if (!(cv.rho_g_cav() > 0)) cf.fail("cavitation.rho_g_cav", "must be positive");
+        if (!(cv.gamma_g() > 1)) cf.fail("cavitation.gamma_g", "must be > 1");
+        if (!(cv.alpha0() > 0 && cv.alpha0() < 1)) cf.fail("cavitation.alpha0", "must lie in (0, 1)");
+    }
+
+    // Time and output.
+    if (!(c.end_time() > 0)) cf.fail("end_time", "must be positive");
+    const auto& o = c.output();
+    for (int k = 0; k < o.times_size(); ++k)
+        if (!(o.times(k) > 0 && o.times(k) <= c.end_time()))
+            cf.fail("output.times", "output time " + std::to_string(o.times(k)) + " s lies outside (0, end_time]");
+    if (!(o.interval() >= 0)) cf.fail("output.interval", "must be ≥ 0");
+    if (!(o.progress_seconds() > 0)) cf.fail("output.progress_seconds", "must be positive");
+    if (o.gauge_every() < 1) cf.fail("output.gauge_every", "must be ≥ 1");
+    const RunPlan rp = plan(cf);
+    if (!writable_directory(rp.directory))
+        cf.fail("output.directory", "cannot write the output directory '" + rp.directory + "'");
+    for (int g = 0; g < c.gauges_size(); ++g) {
+        const auto& ga = c.gauges(g);
+        const std::string p = "gauges[" + std::to_string(g) + "]";
+        for (int h = 0; h < g; ++h)
+            if (c.gauges(h).name() == ga.name()) cf.fail(p + ".name", "gauge '" + ga.name() + "' is defined twice");
+        if (ga.x() < d.x_min() || ga.x() > d.x_max()) cf.fail(p + ".x", "gauge lies outside the domain");
+        if (two_d && (ga.y() < d.y_min() || ga.y() > d.y_max())) cf.fail(p + ".y", "gauge lies outside the domain");
+    }
+}
+
+RunPlan plan(const CaseFile& cf) {
+    const cfg::Case& c = cf.get();
+    RunPlan p;
+    p.end_time = c.end_time();
+    for (double t : c.output().times()) p.output_times.push_back(t);
+    if (c.output().interval() > 0)
+        for (double t = c.output().interval(); t < c.end_time() * (1 - 1e-12); t += c.output().interval())
+            p.output_times.push_back(t);
+    p.output_times.push_back(c.end_time());
+    std::sort(p.output_times.begin(), p.output_times.end());
+    p.output_times.erase(std::unique(p.output_times.begin(), p.output_times.end(),
+                                     [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::abs(b); }),
+                         p.output_times.end());
+    std::string name = c.name();
+    if (name.empty()) name = std::filesystem::path(cf.path()).stem().string();
+    p.directory = c.output().has_directory() ? c.output().directory() : "out/" + name;
+    p.progress_seconds = c.output().progress_seconds();
+    p.gauge_every = c.output().gauge_every();
+    p.threads = c.numerics().threads();
+    p.max_steps = c.numerics().max_steps();
+    for (const auto& g : c.gauges()) p.gauges.push_back({g.name(), g.x(), g.y()});
+    return p;
+}
+
+namespace {
+
+std::function<double(double)> pressure_history(const cfg::PressureHistory& h) {
+    if (h.table_t_size() > 0) {
+        std::vector<double> t(h.table_t().begin(), h.table_t().end()), p(h.table_p().begin(), h.table_p().end());
+        return [t, p](double time) {
+            if (time <= t.front()) return p.front();
+            if (time >= t.back()) return p.back();
+            const auto k = std::upper_bound(t.begin(), t.end(), time) - t.begin();
+            const double f = (time - t[k - 1]) / (t[k] - t[k - 1]);
+            return (1 - f) * p[k - 1] + f * p[k];
+        };
+    }
+    const double amb = h.p_ambient(), peak = h.p_peak(), theta = h.theta(), t0 = h.t_arrival();
+    return [=](double time) { return time < t0 ? amb : amb + peak * std::exp(-(time - t0) / theta); };
+}
+
+Boundary boundary(const cfg::Boundary& b) {
+    Boundary out;
+    switch (b.type()) {
+    case cfg::Boundary::WALL: out.type = BoundaryType::Wall; break;
+    case cfg::Boundary::SYMMETRY: out.type = BoundaryType::Symmetry; break;
+    case cfg::Boundary::PRESSURE:
+        out.type = BoundaryType::Pressure;
+        out.pressure = pressure_history(b.pressure());
+        break;
+    case cfg::Boundary::PERIODIC: out.type = BoundaryType::Periodic; break;
+    default: out.type = BoundaryType::Transmissive;
+    }
+    return out;
+}
+
+template <int D, int K, class Eos>
+std::unique_ptr<FluidSolver> build(const cfg::Case& c, const Mesh& mesh, const Eos& eos, const Settings& s,
+                                   const std::array<Boundary, 4>& bc) {
+    auto solver = std::make_unique<Scheme<D, K, Eos>>(mesh, eos, s, bc);
+    solver->project([&](double x, double y, double* q) {
+        const cfg::Region* reg = &c.regions(0);
+        for (const auto& r : c.regions())
+            if (inside(r, x, y)) reg = &r;
+        const double u = reg->u(), v = reg->v();
+        q[0] = reg->rho();
+        q[1] = reg->rho() * u;
+        if (D == 2) q[2] = reg->rho() * v;
+        q[D + 1] = eos.internal_energy(reg->rho(), reg->p()) + 0.5 * reg->rho() * (u * u + v * v);
+    });
+    return solver;
+}
+
+template <int D, class Eos>
+std::unique_ptr<FluidSolver> build_degree(const cfg::Case& c, const Mesh& m, const Eos& eos, const Settings& s,
+                                          const std::array<Boundary, 4>& bc) {
+    switch (s.degree) {
+    case 0: return build<D, 0>(c, m, eos, s, bc);
+    case 1: return build<D, 1>(c, m, eos, s, bc);
+    default: return build<D, 2>(c, m, eos, s, bc);
+    }
+}
+
+template <class Eos>
+std::unique_ptr<FluidSolver> build_dim(const cfg::Case& c, const Mesh& m, const Eos& eos, const Settings& s,
+                                       const std::array<Boundary, 4>& bc) {
+    return m.dim == 1 ? build_degree<1>(c, m, eos, s, bc) : build_degree<2>(c, m, eos, s, bc);
+}
+
+} // namespace
+
+std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
+    validate(cf);
+    const cfg::Case& c = cf.get();
+    Mesh mesh;
+    mesh.dim = is_2d(c.geometry()) ? 2 : 1;
+    mesh.alpha = alpha_of(c.geometry());
+    mesh.nx = c.domain().cells_x();
+    mesh.x_min = c.domain().x_min();
+    mesh.x_max = c.domain().x_max();
+    mesh.dx = (mesh.x_max - mesh.x_min) / mesh.nx;
+    if (mesh.dim == 2) {
+        mesh.ny = c.domain().cells_y();
+        mesh.y_min = c.domain().y_min();
+        mesh.y_max = c.domain().y_max();
+        mesh.dy = (mesh.y_max - mesh.y_min) / mesh.ny;
+    }
+    Settings s;
+    const auto& n = c.numerics();
+    s.degree = n.degree();
+    s.cfl = n.cfl();
+    s.indicator = n.indicator() == "tvb" ? Indicator::Tvb : n.indicator() == "all" ? Indicator::All : Indicator::None;
+    s.tvb_m = n.tvb_m();
+    s.limiter = n.limiter() == "weno" ? Limiter::Weno : Limiter::None;
+    s.weno_neighbour_weight = n.weno_neighbour_weight();
+    s.weno_epsilon = n.weno_epsilon();
+    s.positivity = n.positivity();
+    s.positivity_epsilon = n.positivity_epsilon();
+    std::array<Boundary, 4> bc;
+    bc[0] = boundary(c.boundaries().x_min());
+    bc[1] = boundary(c.boundaries().x_max());
+    if (mesh.dim == 2) {
+        bc[2] = boundary(c.boundaries().y_min());
+        bc[3] = boundary(c.boundaries().y_max());
+    }
+    const auto& mat = c.materials(material_index(c, c.regions(0).material()));
+    if (mat.has_stiffened_gas()) {
+        StiffenedGas eos{mat.stiffened_gas().gamma(), mat.stiffened_gas().p_inf()};
+        return build_dim(c, mesh, eos, s, bc);
+    }
+    const auto& t = mat.tait();
+    if (t.as_stiffened_gas()) {
+        StiffenedGas eos{t.gamma(), t.b() - t.a()};
+        return build_dim(c, mesh, eos, s, bc);
+    }
+    Tait eos;
+    eos.gamma = t.gamma();
+    eos.B = t.b();
+    eos.A = t.a();
+    eos.rho0 = t.rho0();
+    eos.cavitation = c.cavitation().enabled();
+    if (eos.cavitation) {
+        auto& cv = eos.cav;
+        cv.p_cav = c.cavitation().p_cav();
+        cv.rho_g_cav = c.cavitation().rho_g_cav();
+        cv.gamma_g = c.cavitation().gamma_g();
+        cv.alpha0 = c.cavitation().alpha0();
+        cv.gamma_w = eos.gamma;
+        cv.B = eos.B;
+        cv.A = eos.A;
+        cv.rho0 = eos.rho0;
+        cv.finalize();
+    }
+    return build_dim(c, mesh, eos, s, bc);
+}
+
+} // namespace undex::fluid

@@ -1,0 +1,46 @@
+// From a case file to a ready fluid solver: the whole case is checked before anything runs.
+#pragma once
+#include "solver.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace undex {
+class CaseFile;
+}
+
+namespace undex::fluid {
+
+struct GaugePoint {
+    std::string name;
+    double x = 0, y = 0;
+};
+
+struct RunPlan {
+    double end_time = 0;
+    std::vector<double> output_times; // sorted, ending with end_time
+    std::string directory;
+    double progress_seconds = 2;
+    int gauge_every = 1;
+    int threads = 0;
+    long max_steps = 0;
+    std::vector<GaugePoint> gauges;
+};
+
+// Checks every fluid part of the case; throws CaseError naming the field and line.
+void validate(const CaseFile& c);
+// The run plan (output times, directory, gauges) of a validated case.
+RunPlan plan(const CaseFile& c);
+// Builds the solver and projects the initial data. Throws CaseError or SolverFailure.
+std::unique_ptr<FluidSolver> make_solver(const CaseFile& c);
+
+// Names accepted by the indicator and limiter fields, with one line of documentation each.
+struct NamedOption {
+    const char* name;
+    const char* doc;
+};
+const std::vector<NamedOption>& indicator_names();
+const std::vector<NamedOption>& limiter_names();
+
+} // namespace undex::fluid

@@ -1,0 +1,77 @@
+// The fluid solver's interface. One implementation per (dimension, degree, equation of state), chosen
+// once at set-up (setup.cpp); hot loops inside see concrete types only.
+#pragma once
+#include "mesh.hpp"
+
+#include <array>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace undex::fluid {
+
+// A state the method cannot hold: NaN, ρ ≤ 0 or p + P∞ ≤ 0 in a cell average after limiting.
+struct SolverFailure : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+enum class BoundaryType { Transmissive, Wall, Symmetry, Pressure, Periodic };
+
+struct Boundary {
+    BoundaryType type = BoundaryType::Transmissive;
+    std::function<double(double)> pressure; // p(t) for BoundaryType::Pressure
+};
+
+enum class Indicator { Tvb, All, None };
+enum class Limiter { Weno, None };
+
+struct Settings {
+    int degree = 2;
+    double cfl = 0.2;
+    Indicator indicator = Indicator::Tvb;
+    double tvb_m = 10;
+    Limiter limiter = Limiter::Weno;
+    double weno_neighbour_weight = 0.001;
+    double weno_epsilon = 1e-6;
+    bool positivity = true;
+    double positivity_epsilon = 1e-10;
+};
+
+// Primitive state at a point.
+struct Primitive {
+    double rho = 0, u = 0, v = 0, p = 0;
+};
+
+class FluidSolver {
+  public:
+    virtual ~FluidSolver() = default;
+    virtual const Mesh& mesh() const = 0;
+    virtual int degree() const = 0;
+    virtual int variables() const = 0;      // NV = dim + 2
+    virtual int basis_functions() const = 0; // NB
+    virtual double time() const = 0;
+    virtual long steps() const = 0;
+    // Largest stable Δt_f from the current cell averages.
+    virtual double stable_dt() const = 0;
+    // One TVD-RK3 step. On a state the method cannot hold, throws SolverFailure naming the cell and
+    // leaves the solution at the start of the step.
+    virtual void step(double dt) = 0;
+    // Modal coefficients of the interior cells, layout [cell j·nx + i][variable][basis].
+    virtual std::vector<double> coefficients() const = 0;
+    virtual void set_coefficients(const std::vector<double>& c, double time) = 0;
+    // Primitive state from the DG polynomial at (x, y) (y ignored in 1D).
+    virtual Primitive evaluate(double x, double y) const = 0;
+    // Primitive state of the cell average of interior cell (i, j).
+    virtual Primitive cell_average(int i, int j) const = 0;
+    // Void fraction of the cavitation model at pressure p (0 without cavitation).
+    virtual double void_fraction(double p) const = 0;
+    virtual bool has_cavitation() const = 0;
+    // Total mass, momentum and energy (∫U dx over the interior, planar measure).
+    virtual std::vector<double> totals() const = 0;
+    // Number of cells the indicator marked in the last step (all stages).
+    virtual long troubled_cells() const = 0;
+};
+
+} // namespace undex::fluid
