@@ -8,6 +8,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 namespace undex {
@@ -23,20 +24,34 @@ namespace {
 
 class Collector : public pb::io::ErrorCollector {
   public:
-    explicit Collector(std::string file) : file_(std::move(file)) {}
+    explicit Collector(std::string file, std::string text = "") : file_(std::move(file)), text_(std::move(text)) {}
     void AddError(int line, pb::io::ColumnNumber column, const std::string& message) override {
         if (!first_.empty()) return;
         std::ostringstream s;
         s << file_;
         if (line >= 0) s << ':' << line + 1 << ':' << column + 1;
+        const std::string field = field_before(line, column);
+        if (!field.empty()) s << ": field '" << field << "'";
         s << ": " << message;
         first_ = s.str();
+    }
+    // The name of the field whose value the parser was reading: the last "name:" before the column.
+    std::string field_before(int line, int column) const {
+        if (line < 0) return "";
+        std::istringstream in(text_);
+        std::string l;
+        for (int k = 0; k <= line && std::getline(in, l); ++k) {
+        }
+        static const std::regex assignment(R"(([A-Za-z_][A-Za-z0-9_]*)\s*:\s*[^:]*$)");
+        std::smatch m;
+        const std::string before = l.substr(0, std::min<size_t>(column, l.size()));
+        return std::regex_search(before, m, assignment) ? m[1].str() : "";
     }
     void AddWarning(int, pb::io::ColumnNumber, const std::string&) override {}
     const std::string& first() const { return first_; }
 
   private:
-    std::string file_;
+    std::string file_, text_;
     std::string first_;
 };
 
@@ -140,14 +155,18 @@ CaseFile CaseFile::from_text(const std::string& text, const std::string& name) {
         return c;
     }
     pb::TextFormat::Parser parser;
-    Collector collector(name);
+    Collector collector(name, text);
     parser.RecordErrorsTo(&collector);
     parser.WriteLocationsTo(&c.locations_->tree);
+    parser.AllowPartialMessage(true); // missing required fields are reported below, with a location
     if (!parser.ParseFromString(text, c.case_.get())) {
         if (!collector.first().empty()) throw CaseError(collector.first());
         throw CaseError(name + ": cannot be parsed");
     }
     c.locations_->available = true;
+    std::vector<std::string> missing;
+    c.case_->FindInitializationErrors(&missing);
+    if (!missing.empty()) c.fail(missing.front(), "required field is missing");
     return c;
 }
 

@@ -52,7 +52,7 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     }
 
     // Initial data: L2 projection of a pointwise conserved state onto the basis, by quadrature.
-    template <class F> void project(F&& conserved_at) {
+    void project(const std::function<void(double, double, double*)>& conserved_at) override {
         // Six Gauss points per direction: exact for the polynomials and resolves initial jumps better.
         constexpr int NP = 6;
         const double gp[NP] = {-0.9324695142031521, -0.6612093864662645, -0.2386191860831969,

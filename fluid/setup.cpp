@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <cstdlib>
 #include <unistd.h>
 
 namespace undex::fluid {
@@ -75,13 +76,21 @@ bool inside(const cfg::Region& r, double x, double y) {
     return true;
 }
 
-// Whether a directory could be created or written by this user, without creating anything.
+// Whether a directory could be created or written, tested for real (permission bits say nothing to root,
+// nor about read-only or pseudo file systems): a probe directory is made in the nearest existing ancestor
+// and removed again, so nothing is left behind.
 bool writable_directory(const std::filesystem::path& dir) {
     namespace fs = std::filesystem;
     fs::path p = fs::absolute(dir);
     while (!p.empty()) {
         std::error_code ec;
-        if (fs::exists(p, ec)) return fs::is_directory(p, ec) && access(p.c_str(), W_OK | X_OK) == 0;
+        if (fs::exists(p, ec)) {
+            if (!fs::is_directory(p, ec)) return false;
+            std::string probe = (p / ".undex-probe-XXXXXX").string();
+            if (!mkdtemp(probe.data())) return false;
+            rmdir(probe.c_str());
+            return true;
+        }
         if (p == p.parent_path()) break;
         p = p.parent_path();
     }
@@ -164,6 +173,16 @@ void validate(const CaseFile& cf) {
                                   " Pa (−P∞ of '" + reg.material() + "')");
         if (reg.has_ball() && !(reg.ball().radius() > 0)) cf.fail(p + ".ball.radius", "radius must be positive");
         if (!two_d && reg.has_v() && reg.v() != 0) cf.fail(p + ".v", "a 1D case has no v velocity");
+        const auto& mat = c.materials(m);
+        if (mat.has_tait() && !mat.tait().as_stiffened_gas()) {
+            // Barotropic water: the pressure follows from the density.
+            const auto& t = mat.tait();
+            const double p_rho = t.b() * (std::pow(reg.rho() / t.rho0(), t.gamma()) - 1.0) + t.a();
+            if (std::abs(reg.p() - p_rho) > 1e-6 * (std::abs(p_rho) + t.b()))
+                cf.fail(p + ".p", "barotropic Tait water has p = p(rho): rho = " + std::to_string(reg.rho()) +
+                                      " kg/m^3 gives p = " + std::to_string(p_rho) + " Pa, not " +
+                                      std::to_string(reg.p()) + " Pa");
+        }
     }
 
     // Boundaries.

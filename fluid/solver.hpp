@@ -58,6 +58,9 @@ class FluidSolver {
     // One TVD-RK3 step. On a state the method cannot hold, throws SolverFailure naming the cell and
     // leaves the solution at the start of the step.
     virtual void step(double dt) = 0;
+    // Sets the solution to the L2 projection of a pointwise conserved state q(x, y) (q: ρ, ρu, [ρv,] E),
+    // then limits it as after a stage. Throws SolverFailure for inadmissible data.
+    virtual void project(const std::function<void(double, double, double*)>& conserved_at) = 0;
     // Modal coefficients of the interior cells, layout [cell j·nx + i][variable][basis].
     virtual std::vector<double> coefficients() const = 0;
     virtual void set_coefficients(const std::vector<double>& c, double time) = 0;
