@@ -537,10 +537,16 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                     continue;
                 }
                 if (!scale) continue;
-                // Density.
+                // One pass finds the smallest density and pressure margin over the points; most cells need
+                // nothing more.
                 const double rho_floor = eps * avg[0];
-                double rho_min = avg[0];
-                for_each_point(c, [&](const double* q) { rho_min = std::min(rho_min, q[0]); });
+                double rho_min = avg[0], m_min = 1e300;
+                for_each_point(c, [&](const double* q) {
+                    rho_min = std::min(rho_min, q[0]);
+                    if constexpr (!Eos::barotropic)
+                        if (q[0] > 0) m_min = std::min(m_min, eos_.pressure_margin(pressure(q)));
+                });
+                if (rho_min >= rho_floor && (Eos::barotropic || m_min >= eps * eos_.pressure_margin(p_avg))) continue;
                 if (rho_min < rho_floor) {
                     const double theta = (avg[0] - rho_floor) / (avg[0] - rho_min);
                     for (int l = 1; l < NB; ++l) c[l] *= theta;
