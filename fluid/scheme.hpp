@@ -33,6 +33,18 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
         fx_.assign(static_cast<long>(mesh_.nx + 1) * mesh_.ny * NQF * NV, 0.0);
         if (D == 2) fy_.assign(static_cast<long>(mesh_.ny + 1) * mesh_.nx * NQF * NV, 0.0);
         troubled_flag_.assign(mesh_.padded_cells(), 0);
+        const double gx = 2.0 / mesh_.dx, gy = 2.0 / mesh_.dy;
+        for (int l = 0; l < NB; ++l) {
+            for (int q = 0; q < NQV; ++q) {
+                vol_.phi[l][q] = tab_.phiv[q][l];
+                vol_.wdx[l][q] = tab_.wv[q] * gx * tab_.dxiv[q][l];
+                vol_.wdy[l][q] = tab_.wv[q] * gy * tab_.detav[q][l];
+                points_[l][q] = tab_.phiv[q][l];
+            }
+            for (int dir = 0, k = NQV; dir < D; ++dir)
+                for (int side = 0; side < 2; ++side)
+                    for (int g = 0; g < NQF; ++g) points_[l][k++] = tab_.face[dir][side][g][l];
+        }
     }
 
     const Mesh& mesh() const override { return mesh_; }
@@ -177,6 +189,14 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     std::array<Boundary, 4> bc_;
     BasisTables<D, K> tab_;
     WenoTables<D, K> weno_;
+    // Point-major copies of the tables for the vectorised loops: φ_l and the weighted, scaled derivatives
+    // w_q (2/Δx) ∂φ_l/∂ξ, w_q (2/Δy) ∂φ_l/∂η at the volume points.
+    struct {
+        double phi[NB][NQV], wdx[NB][NQV], wdy[NB][NQV];
+    } vol_;
+    // φ_l at every volume and face quadrature point: the points where positivity is enforced.
+    static constexpr int NP = NQV + 2 * D * NQF;
+    double points_[NB][NP];
     std::vector<double> u_, u0_, stage_, rhs_, fx_, fy_;
     std::vector<char> troubled_flag_;
     double time_ = 0.0;
@@ -253,7 +273,6 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                     }
                 }
         }
-        const double gx = 2.0 / mesh_.dx, gy = 2.0 / mesh_.dy;
         const double idx = 1.0 / mesh_.dx, idy = 1.0 / mesh_.dy;
         const double alpha = mesh_.alpha;
 #pragma omp parallel for schedule(static)
@@ -261,43 +280,48 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
             for (int i = 0; i < nx; ++i) {
                 const double* c = cell(U, i, j);
                 double acc[NV][NB] = {};
-                {
-                    for (int q = 0; q < NQV; ++q) {
-                        double s[NV];
-                        for (int v = 0; v < NV; ++v) {
+                // Point-major layout so that the loops over quadrature points vectorise.
+                double s[NV][NQV], F[NV][NQV], G[NV][NQV], P[NQV];
+                for (int v = 0; v < NV; ++v) {
+                    for (int q = 0; q < NQV; ++q) s[v][q] = 0.0;
+                    for (int l = 0; l < NB; ++l) {
+                        const double cl = c[v * NB + l];
+                        for (int q = 0; q < NQV; ++q) s[v][q] += cl * vol_.phi[l][q];
+                    }
+                }
+                for (int q = 0; q < NQV; ++q) {
+                    const double rho = s[0][q], u = s[1][q] / rho, vv = D == 2 ? s[2][q] / rho : 0.0;
+                    const double p = eos_.pressure(rho, s[E][q] - 0.5 * rho * (u * u + vv * vv));
+                    P[q] = p;
+                    for (int v = 0; v < NV; ++v) F[v][q] = s[v][q] * u;
+                    F[1][q] += p;
+                    F[E][q] += p * u;
+                    if constexpr (D == 2) {
+                        for (int v = 0; v < NV; ++v) G[v][q] = s[v][q] * vv;
+                        G[2][q] += p;
+                        G[E][q] += p * vv;
+                    }
+                }
+                if constexpr (K > 0)
+                    for (int v = 0; v < NV; ++v)
+                        for (int l = 1; l < NB; ++l) {
                             double x = 0;
-                            for (int l = 0; l < NB; ++l) x += c[v * NB + l] * tab_.phiv[q][l];
-                            s[v] = x;
+                            for (int q = 0; q < NQV; ++q) {
+                                x += F[v][q] * vol_.wdx[l][q];
+                                if constexpr (D == 2) x += G[v][q] * vol_.wdy[l][q];
+                            }
+                            acc[v][l] = x;
                         }
-                        const double rho = s[0], u = s[1] / rho, vv = D == 2 ? s[2] / rho : 0.0;
-                        const double p = eos_.pressure(rho, s[E] - 0.5 * rho * (u * u + vv * vv));
-                        double F[NV], G[NV], S[NV];
-                        for (int v = 0; v < NV; ++v) F[v] = s[v] * u;
-                        F[1] += p;
-                        F[E] += p * u;
-                        if constexpr (D == 2) {
-                            for (int v = 0; v < NV; ++v) G[v] = s[v] * vv;
-                            G[2] += p;
-                            G[E] += p * vv;
-                        }
-                        const double w = tab_.wv[q];
-                        if (alpha != 0.0) {
-                            // S = −(α/x)(ρu, ρu², ρuv, (E+p)u): the x flux without its pressure term.
-                            const double x = mesh_.xc(i) + 0.5 * mesh_.dx * tab_.xiv[q];
-                            const double f = -alpha / x;
-                            for (int v = 0; v < NV; ++v) S[v] = f * F[v];
-                            S[1] = f * (F[1] - p);
-                            for (int v = 0; v < NV; ++v)
-                                for (int l = 0; l < NB; ++l) acc[v][l] += w * S[v] * tab_.phiv[q][l];
-                        }
-                        if constexpr (K > 0) {
-                            for (int v = 0; v < NV; ++v)
-                                for (int l = 1; l < NB; ++l) {
-                                    double x = F[v] * gx * tab_.dxiv[q][l];
-                                    if constexpr (D == 2) x += G[v] * gy * tab_.detav[q][l];
-                                    acc[v][l] += w * x;
-                                }
-                        }
+                if (alpha != 0.0) {
+                    // S = −(α/x)(ρu, ρu², ρuv, (E+p)u): the x flux without its pressure term.
+                    for (int q = 0; q < NQV; ++q) {
+                        const double x = mesh_.xc(i) + 0.5 * mesh_.dx * tab_.xiv[q];
+                        const double f = -alpha / x * tab_.wv[q];
+                        double S[NV];
+                        for (int v = 0; v < NV; ++v) S[v] = f * F[v][q];
+                        S[1] = f * (F[1][q] - P[q]);
+                        for (int v = 0; v < NV; ++v)
+                            for (int l = 0; l < NB; ++l) acc[v][l] += S[v] * tab_.phiv[q][l];
                     }
                 }
                 const double* fl = fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV;
@@ -540,12 +564,17 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                 // One pass finds the smallest density and pressure margin over the points; most cells need
                 // nothing more.
                 const double rho_floor = eps * avg[0];
+                double Q[NV][NP];
+                eval_points(c, Q);
                 double rho_min = avg[0], m_min = 1e300;
-                for_each_point(c, [&](const double* q) {
-                    rho_min = std::min(rho_min, q[0]);
-                    if constexpr (!Eos::barotropic)
-                        if (q[0] > 0) m_min = std::min(m_min, eos_.pressure_margin(pressure(q)));
-                });
+                for (int k = 0; k < NP; ++k) rho_min = std::min(rho_min, Q[0][k]);
+                if constexpr (!Eos::barotropic)
+                    if (rho_min > 0)
+                        for (int k = 0; k < NP; ++k) {
+                            double ke = 0;
+                            for (int d = 0; d < D; ++d) ke += Q[1 + d][k] * Q[1 + d][k];
+                            m_min = std::min(m_min, eos_.pressure_margin(eos_.pressure(Q[0][k], Q[E][k] - 0.5 * ke / Q[0][k])));
+                        }
                 if (rho_min >= rho_floor && (Eos::barotropic || m_min >= eps * eos_.pressure_margin(p_avg))) continue;
                 if (rho_min < rho_floor) {
                     const double theta = (avg[0] - rho_floor) / (avg[0] - rho_min);
@@ -566,6 +595,17 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                 }
             }
         if (bad_i >= 0) fail_cell(bad_i, bad_j, bad_what, t);
+    }
+
+    // The conserved state at every volume and face quadrature point of cell c, point-major.
+    void eval_points(const double* c, double (&Q)[NV][NP]) const {
+        for (int v = 0; v < NV; ++v) {
+            for (int k = 0; k < NP; ++k) Q[v][k] = 0.0;
+            for (int l = 0; l < NB; ++l) {
+                const double cl = c[v * NB + l];
+                for (int k = 0; k < NP; ++k) Q[v][k] += cl * points_[l][k];
+            }
+        }
     }
 
     // Calls f(q) with the conserved state at every volume and face quadrature point of cell c.
