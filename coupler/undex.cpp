@@ -119,6 +119,8 @@ int sample(const Args& a) {
     const auto c = undex::CaseFile::from_text(run.case_text, h5);
     auto solver = undex::fluid::make_solver(c);
     solver->set_coefficients(undex::fluid::read_coefficients(h5, run.groups[best]), run.times[best]);
+    const auto phi = undex::fluid::read_level_set(h5, run.groups[best]);
+    if (!phi.empty()) solver->set_level_set(phi);
     std::stringstream line(a.options.at("line"));
     std::string p0s, p1s;
     line >> p0s >> p1s;
@@ -183,6 +185,10 @@ int options() {
     for (const auto& n : undex::fluid::indicator_names()) std::cout << "  " << n.name << "  " << n.doc << "\n";
     std::cout << "numerics.limiter:\n";
     for (const auto& n : undex::fluid::limiter_names()) std::cout << "  " << n.name << "  " << n.doc << "\n";
+    std::cout << "interface.method:\n";
+    for (const auto& n : undex::fluid::ghost_method_names()) std::cout << "  " << n.name << "  " << n.doc << "\n";
+    std::cout << "interface.riemann:\n";
+    for (const auto& n : undex::fluid::interface_riemann_names()) std::cout << "  " << n.name << "  " << n.doc << "\n";
     std::cout << "geometry: PLANAR_1D CYLINDRICAL_1D SPHERICAL_1D PLANAR_2D AXISYMMETRIC_2D\n"
               << "boundary type: TRANSMISSIVE WALL SYMMETRY PRESSURE PERIODIC\n"
               << "material models: stiffened_gas { gamma p_inf }, tait { gamma B A rho0 as_stiffened_gas }\n"

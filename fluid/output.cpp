@@ -44,7 +44,8 @@ void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims
     hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
     hid_t set = H5Dcreate2(loc, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     if (set < 0) throw std::runtime_error(std::string("HDF5: cannot create dataset ") + name);
-    check(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), std::string("write ") + name);
+    check(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
+          std::string("write ") + name);
     H5Dclose(set);
     H5Sclose(space);
 }
@@ -106,6 +107,7 @@ Output::Output(const std::string& directory, const std::string& case_text, const
     dim_ = m.dim, nx_ = m.nx, ny_ = m.ny;
     x_min_ = m.x_min, y_min_ = m.y_min, dx_ = m.dx, dy_ = m.dy;
     cavitation_ = solver.has_cavitation();
+    level_set_ = !solver.level_set().empty();
     write_attr_string(file_, "case", case_text);
     write_attr<long>(file_, "dim", m.dim);
     write_attr<long>(file_, "nx", m.nx);
@@ -118,13 +120,16 @@ Output::Output(const std::string& directory, const std::string& case_text, const
     write_attr<double>(file_, "y_min", m.y_min);
     write_attr<double>(file_, "y_max", m.y_max);
     write_attr_string(file_, "status", "running");
-    for (const char* g : {"fields", "gauges"}) H5Gclose(H5Gcreate2(file_, g, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+    for (const char* g : {"fields", "gauges"})
+        H5Gclose(H5Gcreate2(file_, g, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
     std::vector<double> x(m.nx);
-    for (int i = 0; i < m.nx; ++i) x[i] = m.xc(i);
+    for (int i = 0; i < m.nx; ++i)
+        x[i] = m.xc(i);
     write_dataset(file_, "x", {static_cast<hsize_t>(m.nx)}, x.data());
     if (m.dim == 2) {
         std::vector<double> y(m.ny);
-        for (int j = 0; j < m.ny; ++j) y[j] = m.yc(j);
+        for (int j = 0; j < m.ny; ++j)
+            y[j] = m.yc(j);
         write_dataset(file_, "y", {static_cast<hsize_t>(m.ny)}, y.data());
     }
     H5Fflush(file_, H5F_SCOPE_GLOBAL);
@@ -151,13 +156,14 @@ void Output::write_fields(const FluidSolver& solver, bool last_good) {
             rho[k] = w.rho, u[k] = w.u, v[k] = w.v, p[k] = w.p;
             if (cavitation_) alpha[k] = solver.void_fraction(w.p);
         }
-    std::vector<hsize_t> dims = dim_ == 2 ? std::vector<hsize_t>{hsize_t(ny_), hsize_t(nx_)}
-                                          : std::vector<hsize_t>{hsize_t(nx_)};
+    std::vector<hsize_t> dims =
+        dim_ == 2 ? std::vector<hsize_t>{hsize_t(ny_), hsize_t(nx_)} : std::vector<hsize_t>{hsize_t(nx_)};
     write_dataset(g, "rho", dims, rho.data());
     write_dataset(g, "u", dims, u.data());
     if (dim_ == 2) write_dataset(g, "v", dims, v.data());
     write_dataset(g, "p", dims, p.data());
     if (cavitation_) write_dataset(g, "void_fraction", dims, alpha.data());
+    if (level_set_) write_dataset(g, "phi", dims, solver.level_set().data());
     const auto c = solver.coefficients();
     const hsize_t per_cell = static_cast<hsize_t>(solver.variables() * solver.basis_functions());
     write_dataset(g, "coefficients", {hsize_t(n), per_cell}, c.data());
@@ -189,7 +195,8 @@ void Output::write_gauges() {
         const char* names[5] = {"t", "rho", "u", "v", "p"};
         for (int col = 0; col < 5; ++col) {
             std::vector<double> column(rows);
-            for (size_t r = 0; r < rows; ++r) column[r] = s[r * 5 + col];
+            for (size_t r = 0; r < rows; ++r)
+                column[r] = s[r * 5 + col];
             write_dataset(g, names[col], {hsize_t(rows)}, column.data());
         }
         H5Gclose(g);
@@ -214,6 +221,7 @@ void Output::write_xdmf() const {
     std::vector<std::string> fields = {"rho", "u", "p"};
     if (dim_ == 2) fields.insert(fields.begin() + 2, "v");
     if (cavitation_) fields.push_back("void_fraction");
+    if (level_set_) fields.push_back("phi");
     const std::string dims = std::to_string(ny_) + " " + std::to_string(nx_);
     for (const auto& s : snapshots_) {
         x << "<Grid Name=\"" << s.group << "\" GridType=\"Uniform\">\n<Time Value=\"" << s.time << "\"/>\n"
@@ -269,10 +277,20 @@ std::vector<double> read_coefficients(const std::string& h5_path, const std::str
     return c;
 }
 
+std::vector<double> read_level_set(const std::string& h5_path, const std::string& group) {
+    hid_t f = open_read(h5_path);
+    const std::string name = group + "/phi";
+    std::vector<double> phi;
+    if (H5Lexists(f, name.c_str(), H5P_DEFAULT) > 0) phi = read_dataset(f, name);
+    H5Fclose(f);
+    return phi;
+}
+
 std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name) {
     hid_t f = open_read(h5_path);
     std::vector<std::vector<double>> cols;
-    for (const char* c : {"t", "rho", "u", "v", "p"}) cols.push_back(read_dataset(f, "gauges/" + name + "/" + c));
+    for (const char* c : {"t", "rho", "u", "v", "p"})
+        cols.push_back(read_dataset(f, "gauges/" + name + "/" + c));
     H5Fclose(f);
     return cols;
 }

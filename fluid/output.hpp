@@ -2,8 +2,9 @@
 //   attributes  case (text of the case after overrides), dim, nx, ny, degree, variables, basis_functions,
 //               x_min, x_max, y_min, y_max, status ("running", "complete" or "failed: <message>")
 //   /fields/NNNNNN   attributes time, step, last_good (1 for the state written after a failure);
-//                    rho, u, v, p [, void_fraction]: cell averages, shape (ny, nx) in 2D, (nx) in 1D;
-//                    coefficients: modal DG coefficients, shape (cells, variables·basis_functions)
+//                    rho, u, v, p [, void_fraction] [, phi]: cell averages (phi: level set of two fluids),
+//                    shape (ny, nx) in 2D, (nx) in 1D; coefficients: modal DG coefficients, shape (cells,
+//                    variables·basis_functions)
 //   /gauges/NAME     t, rho, u, v, p: time series at the gauge point
 // The file is flushed after every write, so a run that stops leaves every completed output readable.
 #pragma once
@@ -44,7 +45,7 @@ class Output {
     std::vector<Snapshot> snapshots_;
     int dim_ = 1, nx_ = 0, ny_ = 1;
     double x_min_ = 0, y_min_ = 0, dx_ = 1, dy_ = 1;
-    bool cavitation_ = false;
+    bool cavitation_ = false, level_set_ = false;
 };
 
 // Reading back (for `undex sample` and `undex gauges`).
@@ -56,6 +57,8 @@ struct StoredRun {
 };
 StoredRun read_run(const std::string& h5_path);
 std::vector<double> read_coefficients(const std::string& h5_path, const std::string& group);
+// Level set φ of a two-fluid run (empty for one fluid).
+std::vector<double> read_level_set(const std::string& h5_path, const std::string& group);
 // Columns t, rho, u, v, p of one gauge.
 std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name);
 

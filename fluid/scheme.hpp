@@ -43,7 +43,8 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
             }
             for (int dir = 0, k = NQV; dir < D; ++dir)
                 for (int side = 0; side < 2; ++side)
-                    for (int g = 0; g < NQF; ++g) points_[l][k++] = tab_.face[dir][side][g][l];
+                    for (int g = 0; g < NQF; ++g)
+                        points_[l][k++] = tab_.face[dir][side][g][l];
         }
     }
 
@@ -80,9 +81,11 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                         const double xi = gp[a], eta = D == 1 ? 0.0 : gp[b];
                         const double wq = D == 1 ? wp[a] / 2 : wp[a] * wp[b] / 4;
                         double q[NV];
-                        conserved_at(mesh_.xc(i) + 0.5 * mesh_.dx * xi, mesh_.yc(j) + 0.5 * mesh_.dy * eta, q);
+                        conserved_at(mesh_.xc(i) + 0.5 * mesh_.dx * xi, mesh_.yc(j) + 0.5 * mesh_.dy * eta,
+                                     q);
                         for (int v = 0; v < NV; ++v)
-                            for (int l = 0; l < NB; ++l) c[v * NB + l] += wq * q[v] * B::phi(l, xi, eta) / B::norm(l);
+                            for (int l = 0; l < NB; ++l)
+                                c[v * NB + l] += wq * q[v] * B::phi(l, xi, eta) / B::norm(l);
                     }
             }
         limit(u_, 0.0, "initial data");
@@ -93,9 +96,11 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
 #pragma omp parallel for reduction(max : inv) schedule(static)
         for (int j = 0; j < mesh_.ny; ++j)
             for (int i = 0; i < mesh_.nx; ++i) {
+                if (!active(i, j)) continue;
                 const double* c = cell(u_.data(), i, j);
                 double q[NV];
-                for (int v = 0; v < NV; ++v) q[v] = c[v * NB];
+                for (int v = 0; v < NV; ++v)
+                    q[v] = c[v * NB];
                 const Primitive w = primitive(q);
                 const double a = eos_.sound_speed(w.rho, w.p);
                 double r = (std::abs(w.u) + a) / mesh_.dx;
@@ -124,12 +129,42 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
         } catch (const SolverFailure& f) {
             u_ = u0_;
             std::ostringstream s;
-            s << f.what() << " in step " << steps_ + 1 << " from t = " << time_ << " s with dt = " << dt << " s";
+            s << f.what() << " in step " << steps_ + 1 << " from t = " << time_ << " s with dt = " << dt
+              << " s";
             throw SolverFailure(s.str());
         }
         std::swap(u_, stage_);
         time_ += dt;
         ++steps_;
+        last_dt_ = dt;
+    }
+
+    // Takes back the last step (used when the other fluid of a two-fluid step fails).
+    void revert_step() {
+        u_ = u0_;
+        time_ -= last_dt_;
+        --steps_;
+    }
+
+    // Cells outside the mask (padded-cell flags, see Mesh::index) are skipped: no flux, limiting or time-step
+    // restriction, and their values stay as set. Null: every cell is active. Two-fluid runs use it to solve
+    // each fluid only in its real region and its ghost band.
+    void set_active(const std::vector<char>* mask) {
+        active_ = mask;
+    }
+
+    // Sets cell (i, j) to the constant polynomial of a primitive state.
+    void set_cell_state(int i, int j, const Primitive& w) {
+        double* c = cell(u_.data(), i, j);
+        std::fill(c, c + NC, 0.0);
+        c[0] = w.rho;
+        c[NB] = w.rho * w.u;
+        if (D == 2) c[2 * NB] = w.rho * w.v;
+        c[E * NB] = eos_.internal_energy(w.rho, w.p) + 0.5 * w.rho * (w.u * w.u + w.v * w.v);
+    }
+
+    const Eos& eos() const {
+        return eos_;
     }
 
     std::vector<double> coefficients() const override {
@@ -147,7 +182,8 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
             throw std::runtime_error("coefficient array does not match the mesh and degree");
         for (int j = 0; j < mesh_.ny; ++j)
             for (int i = 0; i < mesh_.nx; ++i)
-                std::copy_n(in.begin() + (static_cast<long>(j) * mesh_.nx + i) * NC, NC, cell(u_.data(), i, j));
+                std::copy_n(in.begin() + (static_cast<long>(j) * mesh_.nx + i) * NC, NC,
+                            cell(u_.data(), i, j));
         time_ = time;
     }
 
@@ -162,7 +198,8 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
         double q[NV];
         for (int v = 0; v < NV; ++v) {
             q[v] = 0;
-            for (int l = 0; l < NB; ++l) q[v] += c[v * NB + l] * B::phi(l, xi, eta);
+            for (int l = 0; l < NB; ++l)
+                q[v] += c[v * NB + l] * B::phi(l, xi, eta);
         }
         return primitive(q);
     }
@@ -170,7 +207,8 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     Primitive cell_average(int i, int j) const override {
         const double* c = cell(u_.data(), i, j);
         double q[NV];
-        for (int v = 0; v < NV; ++v) q[v] = c[v * NB];
+        for (int v = 0; v < NV; ++v)
+            q[v] = c[v * NB];
         return primitive(q);
     }
 
@@ -178,7 +216,8 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
         std::vector<double> t(NV, 0.0);
         for (int j = 0; j < mesh_.ny; ++j)
             for (int i = 0; i < mesh_.nx; ++i)
-                for (int v = 0; v < NV; ++v) t[v] += cell(u_.data(), i, j)[v * NB] * mesh_.dx * (D == 2 ? mesh_.dy : 1.0);
+                for (int v = 0; v < NV; ++v)
+                    t[v] += cell(u_.data(), i, j)[v * NB] * mesh_.dx * (D == 2 ? mesh_.dy : 1.0);
         return t;
     }
 
@@ -199,11 +238,18 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     double points_[NB][NP];
     std::vector<double> u_, u0_, stage_, rhs_, fx_, fy_;
     std::vector<char> troubled_flag_;
-    double time_ = 0.0;
+    double time_ = 0.0, last_dt_ = 0.0;
     long steps_ = 0;
+    const std::vector<char>* active_ = nullptr;
+
+    bool active(int i, int j) const {
+        return !active_ || (*active_)[mesh_.index(i, j)];
+    }
     long troubled_ = 0;
 
-    double* cell(double* U, int i, int j) const { return U + static_cast<long>(mesh_.index(i, j)) * NC; }
+    double* cell(double* U, int i, int j) const {
+        return U + static_cast<long>(mesh_.index(i, j)) * NC;
+    }
     const double* cell(const double* U, int i, int j) const {
         return U + static_cast<long>(mesh_.index(i, j)) * NC;
     }
@@ -218,7 +264,8 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     }
     double pressure(const double* q) const {
         double ke = 0;
-        for (int d = 0; d < D; ++d) ke += q[1 + d] * q[1 + d];
+        for (int d = 0; d < D; ++d)
+            ke += q[1 + d] * q[1 + d];
         return eos_.pressure(q[0], q[E] - 0.5 * ke / q[0]);
     }
 
@@ -228,13 +275,15 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
         const long n = static_cast<long>(out.size());
         const double* r = rhs_.data();
 #pragma omp parallel for schedule(static)
-        for (long k = 0; k < n; ++k) out[k] = a * x[k] + b * y[k] + bdt * r[k];
+        for (long k = 0; k < n; ++k)
+            out[k] = a * x[k] + b * y[k] + bdt * r[k];
     }
 
     template <int Dir> static void eval_face(const double* c, const double (*phi)[NB], int g, double* q) {
         for (int v = 0; v < NV; ++v) {
             double s = 0;
-            for (int l = 0; l < NB; ++l) s += c[v * NB + l] * phi[g][l];
+            for (int l = 0; l < NB; ++l)
+                s += c[v * NB + l] * phi[g][l];
             q[v] = s;
         }
     }
@@ -247,6 +296,7 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
 #pragma omp parallel for schedule(static)
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i <= nx; ++i) {
+                if (!active(i - 1, j) && !active(i, j)) continue;
                 const double* cl = cell(U, i - 1, j);
                 const double* cr = cell(U, i, j);
                 double* f = fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV;
@@ -262,6 +312,7 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
 #pragma omp parallel for schedule(static)
             for (int j = 0; j <= ny; ++j)
                 for (int i = 0; i < nx; ++i) {
+                    if (!active(i, j - 1) && !active(i, j)) continue;
                     const double* cb = cell(U, i, j - 1);
                     const double* ct = cell(U, i, j);
                     double* f = fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
@@ -278,26 +329,34 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
 #pragma omp parallel for schedule(static)
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i < nx; ++i) {
+                if (!active(i, j)) {
+                    std::fill_n(cell(rhs_.data(), i, j), NC, 0.0);
+                    continue;
+                }
                 const double* c = cell(U, i, j);
                 double acc[NV][NB] = {};
                 // Point-major layout so that the loops over quadrature points vectorise.
                 double s[NV][NQV], F[NV][NQV], G[NV][NQV], P[NQV];
                 for (int v = 0; v < NV; ++v) {
-                    for (int q = 0; q < NQV; ++q) s[v][q] = 0.0;
+                    for (int q = 0; q < NQV; ++q)
+                        s[v][q] = 0.0;
                     for (int l = 0; l < NB; ++l) {
                         const double cl = c[v * NB + l];
-                        for (int q = 0; q < NQV; ++q) s[v][q] += cl * vol_.phi[l][q];
+                        for (int q = 0; q < NQV; ++q)
+                            s[v][q] += cl * vol_.phi[l][q];
                     }
                 }
                 for (int q = 0; q < NQV; ++q) {
                     const double rho = s[0][q], u = s[1][q] / rho, vv = D == 2 ? s[2][q] / rho : 0.0;
                     const double p = eos_.pressure(rho, s[E][q] - 0.5 * rho * (u * u + vv * vv));
                     P[q] = p;
-                    for (int v = 0; v < NV; ++v) F[v][q] = s[v][q] * u;
+                    for (int v = 0; v < NV; ++v)
+                        F[v][q] = s[v][q] * u;
                     F[1][q] += p;
                     F[E][q] += p * u;
                     if constexpr (D == 2) {
-                        for (int v = 0; v < NV; ++v) G[v][q] = s[v][q] * vv;
+                        for (int v = 0; v < NV; ++v)
+                            G[v][q] = s[v][q] * vv;
                         G[2][q] += p;
                         G[E][q] += p * vv;
                     }
@@ -318,10 +377,12 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                         const double x = mesh_.xc(i) + 0.5 * mesh_.dx * tab_.xiv[q];
                         const double f = -alpha / x * tab_.wv[q];
                         double S[NV];
-                        for (int v = 0; v < NV; ++v) S[v] = f * F[v][q];
+                        for (int v = 0; v < NV; ++v)
+                            S[v] = f * F[v][q];
                         S[1] = f * (F[1][q] - P[q]);
                         for (int v = 0; v < NV; ++v)
-                            for (int l = 0; l < NB; ++l) acc[v][l] += S[v] * tab_.phiv[q][l];
+                            for (int l = 0; l < NB; ++l)
+                                acc[v][l] += S[v] * tab_.phiv[q][l];
                     }
                 }
                 const double* fl = fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV;
@@ -331,7 +392,8 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                     for (int v = 0; v < NV; ++v)
                         for (int l = 0; l < NB; ++l)
                             acc[v][l] += idx * wf *
-                                         (fl[g * NV + v] * tab_.face[0][0][g][l] - fr[g * NV + v] * tab_.face[0][1][g][l]);
+                                         (fl[g * NV + v] * tab_.face[0][0][g][l] -
+                                          fr[g * NV + v] * tab_.face[0][1][g][l]);
                 }
                 if constexpr (D == 2) {
                     const double* fb = fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
@@ -341,12 +403,14 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                         for (int v = 0; v < NV; ++v)
                             for (int l = 0; l < NB; ++l)
                                 acc[v][l] += idy * wf *
-                                             (fb[g * NV + v] * tab_.face[1][0][g][l] - ft[g * NV + v] * tab_.face[1][1][g][l]);
+                                             (fb[g * NV + v] * tab_.face[1][0][g][l] -
+                                              ft[g * NV + v] * tab_.face[1][1][g][l]);
                     }
                 }
                 double* r = cell(rhs_.data(), i, j);
                 for (int v = 0; v < NV; ++v)
-                    for (int l = 0; l < NB; ++l) r[v * NB + l] = acc[v][l] * tab_.inv_norm[l];
+                    for (int l = 0; l < NB; ++l)
+                        r[v * NB + l] = acc[v][l] * tab_.inv_norm[l];
             }
     }
 
@@ -369,8 +433,12 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
 #pragma omp parallel for reduction(+ : count) schedule(static)
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i < nx; ++i) {
-                bool bad = set_.indicator == Indicator::All;
+                bool bad = set_.indicator == Indicator::All && active(i, j);
                 const double* c = cell(U, i, j);
+                if (!active(i, j)) {
+                    troubled_flag_[mesh_.index(i, j)] = 0;
+                    continue;
+                }
                 for (int dir = 0; dir < D && !bad; ++dir) {
                     const double* lo = dir == 0 ? cell(U, i - 1, j) : cell(U, i, j - 1);
                     const double* hi = dir == 0 ? cell(U, i + 1, j) : cell(U, i, j + 1);
@@ -421,7 +489,8 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                 constexpr int NCAND = 1 + 2 * D;
                 double cand[NCAND][NV][NB];
                 for (int v = 0; v < NV; ++v)
-                    for (int l = 0; l < NB; ++l) cand[0][v][l] = c[v * NB + l];
+                    for (int l = 0; l < NB; ++l)
+                        cand[0][v][l] = c[v * NB + l];
                 for (int nb = 0; nb < 2 * D; ++nb) {
                     const int ni = i + (nb == 0 ? -1 : nb == 1 ? 1 : 0);
                     const int nj = j + (nb == 2 ? -1 : nb == 3 ? 1 : 0);
@@ -429,14 +498,16 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                     for (int v = 0; v < NV; ++v) {
                         for (int l = 0; l < NB; ++l) {
                             double s = 0;
-                            for (int m = 0; m < NB; ++m) s += weno_.shift[nb][l][m] * n[v * NB + m];
+                            for (int m = 0; m < NB; ++m)
+                                s += weno_.shift[nb][l][m] * n[v * NB + m];
                             cand[1 + nb][v][l] = s;
                         }
                         cand[1 + nb][v][0] = c[v * NB];
                     }
                 }
                 double q[NV];
-                for (int v = 0; v < NV; ++v) q[v] = c[v * NB];
+                for (int v = 0; v < NV; ++v)
+                    q[v] = c[v * NB];
                 const Primitive w = primitive(q);
                 const double a = eos_.sound_speed(w.rho, w.p);
                 const double vel[2] = {w.u, w.v};
@@ -449,14 +520,16 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                         for (int k = 0; k < NCAND; ++k)
                             for (int l = 0; l < NB; ++l) {
                                 double s = 0;
-                                for (int v = 0; v < NV; ++v) s += ev.L[m][v] * cand[k][v][l];
+                                for (int v = 0; v < NV; ++v)
+                                    s += ev.L[m][v] * cand[k][v][l];
                                 ch[k][l] = s;
                             }
                         double wsum = 0, wk[NCAND];
                         for (int k = 0; k < NCAND; ++k) {
                             double beta = 0;
                             for (int l = 1; l < NB; ++l)
-                                for (int n = 1; n < NB; ++n) beta += ch[k][l] * weno_.smooth[l][n] * ch[k][n];
+                                for (int n = 1; n < NB; ++n)
+                                    beta += ch[k][l] * weno_.smooth[l][n] * ch[k][n];
                             const double lin = k == 0 ? g_c : g_nb;
                             wk[k] = lin / ((eps + beta) * (eps + beta));
                             wsum += wk[k];
@@ -464,21 +537,24 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                         limited[m][0] = ch[0][0];
                         for (int l = 1; l < NB; ++l) {
                             double s = 0;
-                            for (int k = 0; k < NCAND; ++k) s += wk[k] * ch[k][l];
+                            for (int k = 0; k < NCAND; ++k)
+                                s += wk[k] * ch[k][l];
                             limited[m][l] = s / wsum;
                         }
                     }
                     for (int v = 0; v < NV; ++v)
                         for (int l = 0; l < NB; ++l) {
                             double s = 0;
-                            for (int m = 0; m < NV; ++m) s += ev.R[v][m] * limited[m][l];
+                            for (int m = 0; m < NV; ++m)
+                                s += ev.R[v][m] * limited[m][l];
                             result[v][l] += s / D;
                         }
                 }
                 double* o = cell(out, i, j);
                 for (int v = 0; v < NV; ++v) {
                     o[v * NB] = c[v * NB]; // the average is kept exactly
-                    for (int l = 1; l < NB; ++l) o[v * NB + l] = result[v][l];
+                    for (int l = 1; l < NB; ++l)
+                        o[v * NB + l] = result[v][l];
                 }
                 // Keep the density of the limited polynomial within the range of this and the neighbouring
                 // cell averages, as a MUSCL reconstruction would: WENO alone does not rule out overshoots,
@@ -497,7 +573,8 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                 });
                 if (theta < 1.0)
                     for (int v = 0; v < NV; ++v)
-                        for (int l = 1; l < NB; ++l) o[v * NB + l] *= theta;
+                        for (int l = 1; l < NB; ++l)
+                            o[v * NB + l] *= theta;
             }
 #pragma omp parallel for schedule(static)
         for (int j = 0; j < ny; ++j)
@@ -536,17 +613,21 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
 #pragma omp parallel for schedule(static)
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i < nx; ++i) {
+                if (!active(i, j)) continue;
                 double* c = cell(U, i, j);
                 double avg[NV];
                 bool finite = true;
                 for (int v = 0; v < NV; ++v) {
                     avg[v] = c[v * NB];
-                    for (int l = 0; l < NB; ++l) finite = finite && std::isfinite(c[v * NB + l]);
+                    for (int l = 0; l < NB; ++l)
+                        finite = finite && std::isfinite(c[v * NB + l]);
                 }
                 std::string what;
                 double p_avg = 0;
-                if (!finite) what = "non-finite value (NaN or Inf)";
-                else if (!(avg[0] > 0)) what = "non-positive density " + std::to_string(avg[0]) + " kg/m^3";
+                if (!finite)
+                    what = "non-finite value (NaN or Inf)";
+                else if (!(avg[0] > 0))
+                    what = "non-positive density " + std::to_string(avg[0]) + " kg/m^3";
                 else {
                     p_avg = pressure(avg);
                     if (!(eos_.pressure_margin(p_avg) > 0) || !std::isfinite(p_avg))
@@ -567,18 +648,23 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                 double Q[NV][NP];
                 eval_points(c, Q);
                 double rho_min = avg[0], m_min = 1e300;
-                for (int k = 0; k < NP; ++k) rho_min = std::min(rho_min, Q[0][k]);
+                for (int k = 0; k < NP; ++k)
+                    rho_min = std::min(rho_min, Q[0][k]);
                 if constexpr (!Eos::barotropic)
                     if (rho_min > 0)
                         for (int k = 0; k < NP; ++k) {
                             double ke = 0;
-                            for (int d = 0; d < D; ++d) ke += Q[1 + d][k] * Q[1 + d][k];
-                            m_min = std::min(m_min, eos_.pressure_margin(eos_.pressure(Q[0][k], Q[E][k] - 0.5 * ke / Q[0][k])));
+                            for (int d = 0; d < D; ++d)
+                                ke += Q[1 + d][k] * Q[1 + d][k];
+                            m_min = std::min(m_min, eos_.pressure_margin(eos_.pressure(
+                                                        Q[0][k], Q[E][k] - 0.5 * ke / Q[0][k])));
                         }
-                if (rho_min >= rho_floor && (Eos::barotropic || m_min >= eps * eos_.pressure_margin(p_avg))) continue;
+                if (rho_min >= rho_floor && (Eos::barotropic || m_min >= eps * eos_.pressure_margin(p_avg)))
+                    continue;
                 if (rho_min < rho_floor) {
                     const double theta = (avg[0] - rho_floor) / (avg[0] - rho_min);
-                    for (int l = 1; l < NB; ++l) c[l] *= theta;
+                    for (int l = 1; l < NB; ++l)
+                        c[l] *= theta;
                 }
                 // Pressure (stiffened gas only: p + P∞ is concave in U, so the linear estimate is safe).
                 if constexpr (!Eos::barotropic) {
@@ -591,7 +677,8 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                     });
                     if (theta < 1.0)
                         for (int v = 0; v < NV; ++v)
-                            for (int l = 1; l < NB; ++l) c[v * NB + l] *= theta;
+                            for (int l = 1; l < NB; ++l)
+                                c[v * NB + l] *= theta;
                 }
             }
         if (bad_i >= 0) fail_cell(bad_i, bad_j, bad_what, t);
@@ -600,10 +687,12 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     // The conserved state at every volume and face quadrature point of cell c, point-major.
     void eval_points(const double* c, double (&Q)[NV][NP]) const {
         for (int v = 0; v < NV; ++v) {
-            for (int k = 0; k < NP; ++k) Q[v][k] = 0.0;
+            for (int k = 0; k < NP; ++k)
+                Q[v][k] = 0.0;
             for (int l = 0; l < NB; ++l) {
                 const double cl = c[v * NB + l];
-                for (int k = 0; k < NP; ++k) Q[v][k] += cl * points_[l][k];
+                for (int k = 0; k < NP; ++k)
+                    Q[v][k] += cl * points_[l][k];
             }
         }
     }
@@ -614,15 +703,18 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
             double q[NV];
             for (int v = 0; v < NV; ++v) {
                 double s = 0;
-                for (int l = 0; l < NB; ++l) s += c[v * NB + l] * phi[l];
+                for (int l = 0; l < NB; ++l)
+                    s += c[v * NB + l] * phi[l];
                 q[v] = s;
             }
             f(q);
         };
-        for (int q = 0; q < NQV; ++q) eval(tab_.phiv[q]);
+        for (int q = 0; q < NQV; ++q)
+            eval(tab_.phiv[q]);
         for (int dir = 0; dir < D; ++dir)
             for (int side = 0; side < 2; ++side)
-                for (int g = 0; g < NQF; ++g) eval(tab_.face[dir][side][g]);
+                for (int g = 0; g < NQF; ++g)
+                    eval(tab_.face[dir][side][g]);
     }
 };
 

@@ -5,12 +5,14 @@
 #include "eos_stiffened_gas.hpp"
 #include "eos_tait.hpp"
 #include "scheme.hpp"
+#include "two_fluid.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <cstdlib>
+#include <filesystem>
 #include <unistd.h>
+#include <variant>
 
 namespace undex::fluid {
 
@@ -33,21 +35,46 @@ const std::vector<NamedOption>& limiter_names() {
     return names;
 }
 
+const std::vector<NamedOption>& ghost_method_names() {
+    static const std::vector<NamedOption> names = {
+        {"real_gfm",
+         "real ghost fluid method: interface Riemann states redefine the real cell and fill the ghost band"},
+        {"modified_gfm", "modified ghost fluid method: the same interface states fill the ghost band only"},
+        {"original_gfm",
+         "original ghost fluid method: ghost pressure and velocity from the real fluid, own entropy"},
+    };
+    return names;
+}
+
+const std::vector<NamedOption>& interface_riemann_names() {
+    static const std::vector<NamedOption> names = {
+        {"double_shock", "both waves taken as shocks (Liu, Khoo and Yeo 2003), as in the paper"},
+        {"exact", "exact two-material solution: shock or rarefaction on each side"},
+    };
+    return names;
+}
+
 namespace {
 
-bool is_2d(cfg::Geometry g) { return g == cfg::PLANAR_2D || g == cfg::AXISYMMETRIC_2D; }
+bool is_2d(cfg::Geometry g) {
+    return g == cfg::PLANAR_2D || g == cfg::AXISYMMETRIC_2D;
+}
 int alpha_of(cfg::Geometry g) {
     switch (g) {
     case cfg::CYLINDRICAL_1D:
-    case cfg::AXISYMMETRIC_2D: return 1;
-    case cfg::SPHERICAL_1D: return 2;
-    default: return 0;
+    case cfg::AXISYMMETRIC_2D:
+        return 1;
+    case cfg::SPHERICAL_1D:
+        return 2;
+    default:
+        return 0;
     }
 }
 
 std::string choices(const std::vector<NamedOption>& names) {
     std::string s;
-    for (const auto& n : names) s += (s.empty() ? "" : ", ") + std::string(n.name);
+    for (const auto& n : names)
+        s += (s.empty() ? "" : ", ") + std::string(n.name);
     return s;
 }
 bool known(const std::vector<NamedOption>& names, const std::string& v) {
@@ -124,7 +151,8 @@ void validate(const CaseFile& cf) {
     if (!(d.x_max() > d.x_min())) cf.fail("domain.x_max", "x_max must be greater than x_min");
     if (d.cells_x() < 1) cf.fail("domain.cells_x", "needs at least one cell");
     if (alpha_of(c.geometry()) > 0 && d.x_min() < 0)
-        cf.fail("domain.x_min", "the radius x must be non-negative in a cylindrical, spherical or axisymmetric case");
+        cf.fail("domain.x_min",
+                "the radius x must be non-negative in a cylindrical, spherical or axisymmetric case");
     if (two_d) {
         if (!d.has_y_min() || !d.has_y_max()) cf.fail("domain", "a 2D case needs y_min and y_max");
         if (!(d.y_max() > d.y_min())) cf.fail("domain.y_max", "y_max must be greater than y_min");
@@ -138,7 +166,8 @@ void validate(const CaseFile& cf) {
     for (int m = 0; m < c.materials_size(); ++m) {
         const auto& mat = c.materials(m);
         const std::string p = "materials[" + std::to_string(m) + "]";
-        if (material_index(c, mat.name()) != m) cf.fail(p + ".name", "material '" + mat.name() + "' is defined twice");
+        if (material_index(c, mat.name()) != m)
+            cf.fail(p + ".name", "material '" + mat.name() + "' is defined twice");
         if (mat.has_stiffened_gas()) {
             if (!(mat.stiffened_gas().gamma() > 1)) cf.fail(p + ".stiffened_gas.gamma", "gamma must be > 1");
             if (!(mat.stiffened_gas().p_inf() >= 0)) cf.fail(p + ".stiffened_gas.p_inf", "p_inf must be ≥ 0");
@@ -162,16 +191,22 @@ void validate(const CaseFile& cf) {
         const std::string p = "regions[" + std::to_string(r) + "]";
         const int m = material_index(c, reg.material());
         if (m < 0) cf.fail(p + ".material", "unknown material '" + reg.material() + "'");
-        if (reg.material() != c.regions(0).material())
-            cf.fail(p + ".material", "material '" + reg.material() + "' differs from '" + c.regions(0).material() +
-                                         "' of regions[0]: two fluids need the gas–water interface (level set), "
-                                         "which this version does not have");
-        if (!(reg.rho() > 0)) cf.fail(p + ".rho", "density must be positive (got " + std::to_string(reg.rho()) + ")");
+        if (reg.material() != c.regions(0).material()) {
+            for (int q = 1; q < r; ++q)
+                if (c.regions(q).material() != c.regions(0).material() &&
+                    c.regions(q).material() != reg.material())
+                    cf.fail(p + ".material", "a third material '" + reg.material() +
+                                                 "': a case holds at most two (" + c.regions(0).material() +
+                                                 " and " + c.regions(q).material() + ")");
+        }
+        if (!(reg.rho() > 0))
+            cf.fail(p + ".rho", "density must be positive (got " + std::to_string(reg.rho()) + ")");
         const double pmin = pressure_bound(c.materials(m));
         if (!(reg.p() > pmin))
-            cf.fail(p + ".p", "pressure " + std::to_string(reg.p()) + " Pa must exceed " + std::to_string(pmin) +
-                                  " Pa (−P∞ of '" + reg.material() + "')");
-        if (reg.has_ball() && !(reg.ball().radius() > 0)) cf.fail(p + ".ball.radius", "radius must be positive");
+            cf.fail(p + ".p", "pressure " + std::to_string(reg.p()) + " Pa must exceed " +
+                                  std::to_string(pmin) + " Pa (−P∞ of '" + reg.material() + "')");
+        if (reg.has_ball() && !(reg.ball().radius() > 0))
+            cf.fail(p + ".ball.radius", "radius must be positive");
         if (!two_d && reg.has_v() && reg.v() != 0) cf.fail(p + ".v", "a 1D case has no v velocity");
         const auto& mat = c.materials(m);
         if (mat.has_tait() && !mat.tait().as_stiffened_gas()) {
@@ -185,12 +220,39 @@ void validate(const CaseFile& cf) {
         }
     }
 
+    // Two materials: a level set from the region shapes and the ghost fluid method.
+    bool two_materials = false;
+    for (const auto& reg : c.regions())
+        two_materials |= reg.material() != c.regions(0).material();
+    if (two_materials) {
+        for (int r = 1; r < c.regions_size(); ++r)
+            if (c.regions(r).shape_case() == cfg::Region::SHAPE_NOT_SET)
+                cf.fail("regions[" + std::to_string(r) + "]",
+                        "with two materials every region after the first needs a box or ball (it shapes the "
+                        "interface)");
+        const auto& in = c.interface();
+        if (!known(ghost_method_names(), in.method()))
+            cf.fail("interface.method",
+                    "unknown method '" + in.method() + "'; choose one of " + choices(ghost_method_names()));
+        if (!known(interface_riemann_names(), in.riemann()))
+            cf.fail("interface.riemann", "unknown interface Riemann solver '" + in.riemann() +
+                                             "'; choose one of " + choices(interface_riemann_names()));
+        if (in.band_cells() < 1 || in.band_cells() > 10)
+            cf.fail("interface.band_cells", "must lie in [1, 10]");
+        if (in.reinit_every() < 1)
+            cf.fail("interface.reinit_every",
+                    "must be ≥ 1: the level set moves only near the interface and needs "
+                    "reinitialising to stay a distance function");
+        if (in.reinit_iterations() < 0) cf.fail("interface.reinit_iterations", "must be ≥ 0");
+    }
+
     // Boundaries.
     const auto& b = c.boundaries();
     validate_boundary(cf, b.x_min(), "boundaries.x_min");
     validate_boundary(cf, b.x_max(), "boundaries.x_max");
     if (two_d) {
-        if (!b.has_y_min() || !b.has_y_max()) cf.fail("boundaries", "a 2D case needs y_min and y_max boundaries");
+        if (!b.has_y_min() || !b.has_y_max())
+            cf.fail("boundaries", "a 2D case needs y_min and y_max boundaries");
         validate_boundary(cf, b.y_min(), "boundaries.y_min");
         validate_boundary(cf, b.y_max(), "boundaries.y_max");
         if ((b.y_min().type() == cfg::Boundary::PERIODIC) != (b.y_max().type() == cfg::Boundary::PERIODIC))
@@ -212,23 +274,31 @@ void validate(const CaseFile& cf) {
         cf.fail("numerics.cfl", "CFL must lie in (0, 1] (got " + std::to_string(n.cfl()) +
                                     "); RK3-DG is stable for roughly CFL ≤ 1/(2k+1)");
     if (!known(indicator_names(), n.indicator()))
-        cf.fail("numerics.indicator", "unknown indicator '" + n.indicator() + "'; choose one of " + choices(indicator_names()));
+        cf.fail("numerics.indicator",
+                "unknown indicator '" + n.indicator() + "'; choose one of " + choices(indicator_names()));
     if (!known(limiter_names(), n.limiter()))
-        cf.fail("numerics.limiter", "unknown limiter '" + n.limiter() + "'; choose one of " + choices(limiter_names()));
+        cf.fail("numerics.limiter",
+                "unknown limiter '" + n.limiter() + "'; choose one of " + choices(limiter_names()));
     if (!(n.tvb_m() >= 0)) cf.fail("numerics.tvb_m", "must be ≥ 0");
     if (!(n.weno_neighbour_weight() > 0 && n.weno_neighbour_weight() < 0.25))
         cf.fail("numerics.weno_neighbour_weight", "must lie in (0, 0.25)");
     if (!(n.weno_epsilon() > 0)) cf.fail("numerics.weno_epsilon", "must be positive");
-    if (!(n.positivity_epsilon() > 0 && n.positivity_epsilon() < 1)) cf.fail("numerics.positivity_epsilon", "must lie in (0, 1)");
+    if (!(n.positivity_epsilon() > 0 && n.positivity_epsilon() < 1))
+        cf.fail("numerics.positivity_epsilon", "must lie in (0, 1)");
     if (n.threads() < 0) cf.fail("numerics.threads", "must be ≥ 0");
     if (n.max_steps() < 1) cf.fail("numerics.max_steps", "must be ≥ 1");
 
     // Cavitation.
     if (c.cavitation().enabled()) {
         const auto& cv = c.cavitation();
-        const auto& mat = c.materials(material_index(c, c.regions(0).material()));
-        if (!mat.has_tait() || mat.tait().as_stiffened_gas())
-            cf.fail("cavitation.enabled", "the cavitation model needs barotropic Tait water (material '" + mat.name() + "' is not)");
+        bool barotropic = false;
+        for (const auto& reg : c.regions()) {
+            const auto& mat = c.materials(material_index(c, reg.material()));
+            barotropic |= mat.has_tait() && !mat.tait().as_stiffened_gas();
+        }
+        if (!barotropic)
+            cf.fail("cavitation.enabled",
+                    "the cavitation model needs barotropic Tait water, and no region holds it");
         if (!(cv.p_cav() > 0)) cf.fail("cavitation.p_cav", "must be positive");
         if (!(cv.rho_g_cav() > 0)) cf.fail("cavitation.rho_g_cav", "must be positive");
         if (!(cv.gamma_g() > 1)) cf.fail("cavitation.gamma_g", "must be > 1");
@@ -240,7 +310,8 @@ void validate(const CaseFile& cf) {
     const auto& o = c.output();
     for (int k = 0; k < o.times_size(); ++k)
         if (!(o.times(k) > 0 && o.times(k) <= c.end_time()))
-            cf.fail("output.times", "output time " + std::to_string(o.times(k)) + " s lies outside (0, end_time]");
+            cf.fail("output.times",
+                    "output time " + std::to_string(o.times(k)) + " s lies outside (0, end_time]");
     if (!(o.interval() >= 0)) cf.fail("output.interval", "must be ≥ 0");
     if (!(o.progress_seconds() > 0)) cf.fail("output.progress_seconds", "must be positive");
     if (o.gauge_every() < 1) cf.fail("output.gauge_every", "must be ≥ 1");
@@ -251,9 +322,11 @@ void validate(const CaseFile& cf) {
         const auto& ga = c.gauges(g);
         const std::string p = "gauges[" + std::to_string(g) + "]";
         for (int h = 0; h < g; ++h)
-            if (c.gauges(h).name() == ga.name()) cf.fail(p + ".name", "gauge '" + ga.name() + "' is defined twice");
+            if (c.gauges(h).name() == ga.name())
+                cf.fail(p + ".name", "gauge '" + ga.name() + "' is defined twice");
         if (ga.x() < d.x_min() || ga.x() > d.x_max()) cf.fail(p + ".x", "gauge lies outside the domain");
-        if (two_d && (ga.y() < d.y_min() || ga.y() > d.y_max())) cf.fail(p + ".y", "gauge lies outside the domain");
+        if (two_d && (ga.y() < d.y_min() || ga.y() > d.y_max()))
+            cf.fail(p + ".y", "gauge lies outside the domain");
     }
 }
 
@@ -261,15 +334,17 @@ RunPlan plan(const CaseFile& cf) {
     const cfg::Case& c = cf.get();
     RunPlan p;
     p.end_time = c.end_time();
-    for (double t : c.output().times()) p.output_times.push_back(t);
+    for (double t : c.output().times())
+        p.output_times.push_back(t);
     if (c.output().interval() > 0)
         for (double t = c.output().interval(); t < c.end_time() * (1 - 1e-12); t += c.output().interval())
             p.output_times.push_back(t);
     p.output_times.push_back(c.end_time());
     std::sort(p.output_times.begin(), p.output_times.end());
-    p.output_times.erase(std::unique(p.output_times.begin(), p.output_times.end(),
-                                     [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::abs(b); }),
-                         p.output_times.end());
+    p.output_times.erase(
+        std::unique(p.output_times.begin(), p.output_times.end(),
+                    [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::abs(b); }),
+        p.output_times.end());
     std::string name = c.name();
     if (name.empty()) name = std::filesystem::path(cf.path()).stem().string();
     p.directory = c.output().has_directory() ? c.output().directory() : "out/" + name;
@@ -277,7 +352,8 @@ RunPlan plan(const CaseFile& cf) {
     p.gauge_every = c.output().gauge_every();
     p.threads = c.numerics().threads();
     p.max_steps = c.numerics().max_steps();
-    for (const auto& g : c.gauges()) p.gauges.push_back({g.name(), g.x(), g.y()});
+    for (const auto& g : c.gauges())
+        p.gauges.push_back({g.name(), g.x(), g.y()});
     return p;
 }
 
@@ -285,7 +361,8 @@ namespace {
 
 std::function<double(double)> pressure_history(const cfg::PressureHistory& h) {
     if (h.table_t_size() > 0) {
-        std::vector<double> t(h.table_t().begin(), h.table_t().end()), p(h.table_p().begin(), h.table_p().end());
+        std::vector<double> t(h.table_t().begin(), h.table_t().end()),
+            p(h.table_p().begin(), h.table_p().end());
         return [t, p](double time) {
             if (time <= t.front()) return p.front();
             if (time >= t.back()) return p.back();
@@ -301,14 +378,21 @@ std::function<double(double)> pressure_history(const cfg::PressureHistory& h) {
 Boundary boundary(const cfg::Boundary& b) {
     Boundary out;
     switch (b.type()) {
-    case cfg::Boundary::WALL: out.type = BoundaryType::Wall; break;
-    case cfg::Boundary::SYMMETRY: out.type = BoundaryType::Symmetry; break;
+    case cfg::Boundary::WALL:
+        out.type = BoundaryType::Wall;
+        break;
+    case cfg::Boundary::SYMMETRY:
+        out.type = BoundaryType::Symmetry;
+        break;
     case cfg::Boundary::PRESSURE:
         out.type = BoundaryType::Pressure;
         out.pressure = pressure_history(b.pressure());
         break;
-    case cfg::Boundary::PERIODIC: out.type = BoundaryType::Periodic; break;
-    default: out.type = BoundaryType::Transmissive;
+    case cfg::Boundary::PERIODIC:
+        out.type = BoundaryType::Periodic;
+        break;
+    default:
+        out.type = BoundaryType::Transmissive;
     }
     return out;
 }
@@ -331,12 +415,15 @@ std::unique_ptr<FluidSolver> build(const cfg::Case& c, const Mesh& mesh, const E
 }
 
 template <int D, class Eos>
-std::unique_ptr<FluidSolver> build_degree(const cfg::Case& c, const Mesh& m, const Eos& eos, const Settings& s,
-                                          const std::array<Boundary, 4>& bc) {
+std::unique_ptr<FluidSolver> build_degree(const cfg::Case& c, const Mesh& m, const Eos& eos,
+                                          const Settings& s, const std::array<Boundary, 4>& bc) {
     switch (s.degree) {
-    case 0: return build<D, 0>(c, m, eos, s, bc);
-    case 1: return build<D, 1>(c, m, eos, s, bc);
-    default: return build<D, 2>(c, m, eos, s, bc);
+    case 0:
+        return build<D, 0>(c, m, eos, s, bc);
+    case 1:
+        return build<D, 1>(c, m, eos, s, bc);
+    default:
+        return build<D, 2>(c, m, eos, s, bc);
     }
 }
 
@@ -344,6 +431,98 @@ template <class Eos>
 std::unique_ptr<FluidSolver> build_dim(const cfg::Case& c, const Mesh& m, const Eos& eos, const Settings& s,
                                        const std::array<Boundary, 4>& bc) {
     return m.dim == 1 ? build_degree<1>(c, m, eos, s, bc) : build_degree<2>(c, m, eos, s, bc);
+}
+
+// Signed distance to a region's shape (negative inside).
+double signed_distance(const cfg::Region& r, double x, double y, int dim) {
+    if (r.has_ball()) {
+        const double dx = x - r.ball().x(), dy = dim == 2 ? y - r.ball().y() : 0.0;
+        return std::hypot(dx, dy) - r.ball().radius();
+    }
+    const auto& b = r.box();
+    const double ox = std::max(b.x_min() - x, x - b.x_max());
+    const double oy = dim == 2 ? std::max(b.y_min() - y, y - b.y_max()) : -1e300;
+    if (ox <= 0 && oy <= 0) return std::max(ox, oy);
+    return std::hypot(std::max(ox, 0.0), std::max(oy, 0.0));
+}
+
+// Conserved state of material `name` at (x, y): the last region of that material containing the point, or
+// else its first region (each fluid's data continued over the whole domain; the ghost fluid method
+// overwrites what lies beyond the interface).
+template <int D, class Eos>
+void state_of(const cfg::Case& c, const std::string& name, const Eos& eos, double x, double y, double* q) {
+    const cfg::Region* reg = nullptr;
+    for (const auto& r : c.regions())
+        if (r.material() == name && (inside(r, x, y) || !reg)) reg = &r;
+    const double u = reg->u(), v = reg->v();
+    q[0] = reg->rho();
+    q[1] = reg->rho() * u;
+    if (D == 2) q[2] = reg->rho() * v;
+    q[D + 1] = eos.internal_energy(reg->rho(), reg->p()) + 0.5 * reg->rho() * (u * u + v * v);
+}
+
+template <int D, int K, class EosM, class EosP>
+std::unique_ptr<FluidSolver> build_two(const cfg::Case& c, const Mesh& mesh, const EosM& em, const EosP& ep,
+                                       const Settings& s, const std::array<Boundary, 4>& bc,
+                                       const InterfaceSettings& is) {
+    const std::string plus = c.regions(0).material();
+    std::string minus;
+    for (const auto& r : c.regions())
+        if (r.material() != plus && minus.empty()) minus = r.material();
+    auto solver = std::make_unique<TwoFluid<D, K, EosM, EosP>>(mesh, em, ep, s, bc, is);
+    solver->initialise(
+        [&](double x, double y) {
+            double phi = 1e300;
+            for (int r = 1; r < c.regions_size(); ++r) {
+                const double sd = signed_distance(c.regions(r), x, y, D);
+                phi = c.regions(r).material() == minus ? std::min(phi, sd) : std::max(phi, -sd);
+            }
+            return phi;
+        },
+        [&](double x, double y, double* q) { state_of<D>(c, minus, em, x, y, q); },
+        [&](double x, double y, double* q) { state_of<D>(c, plus, ep, x, y, q); });
+    return solver;
+}
+
+template <class EosM, class EosP>
+std::unique_ptr<FluidSolver> build_two_dim(const cfg::Case& c, const Mesh& m, const EosM& em, const EosP& ep,
+                                           const Settings& s, const std::array<Boundary, 4>& bc,
+                                           const InterfaceSettings& is) {
+    const bool one = m.dim == 1;
+    switch (s.degree) {
+    case 0:
+        return one ? build_two<1, 0>(c, m, em, ep, s, bc, is) : build_two<2, 0>(c, m, em, ep, s, bc, is);
+    case 1:
+        return one ? build_two<1, 1>(c, m, em, ep, s, bc, is) : build_two<2, 1>(c, m, em, ep, s, bc, is);
+    default:
+        return one ? build_two<1, 2>(c, m, em, ep, s, bc, is) : build_two<2, 2>(c, m, em, ep, s, bc, is);
+    }
+}
+
+std::variant<StiffenedGas, Tait> eos_of(const cfg::Case& c, const cfg::Material& mat) {
+    if (mat.has_stiffened_gas())
+        return StiffenedGas{mat.stiffened_gas().gamma(), mat.stiffened_gas().p_inf()};
+    const auto& t = mat.tait();
+    if (t.as_stiffened_gas()) return StiffenedGas{t.gamma(), t.b() - t.a()};
+    Tait eos;
+    eos.gamma = t.gamma();
+    eos.B = t.b();
+    eos.A = t.a();
+    eos.rho0 = t.rho0();
+    eos.cavitation = c.cavitation().enabled();
+    if (eos.cavitation) {
+        auto& cv = eos.cav;
+        cv.p_cav = c.cavitation().p_cav();
+        cv.rho_g_cav = c.cavitation().rho_g_cav();
+        cv.gamma_g = c.cavitation().gamma_g();
+        cv.alpha0 = c.cavitation().alpha0();
+        cv.gamma_w = eos.gamma;
+        cv.B = eos.B;
+        cv.A = eos.A;
+        cv.rho0 = eos.rho0;
+        cv.finalize();
+    }
+    return eos;
 }
 
 } // namespace
@@ -368,7 +547,9 @@ std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
     const auto& n = c.numerics();
     s.degree = n.degree();
     s.cfl = n.cfl();
-    s.indicator = n.indicator() == "tvb" ? Indicator::Tvb : n.indicator() == "all" ? Indicator::All : Indicator::None;
+    s.indicator = n.indicator() == "tvb"   ? Indicator::Tvb
+                  : n.indicator() == "all" ? Indicator::All
+                                           : Indicator::None;
     s.tvb_m = n.tvb_m();
     s.limiter = n.limiter() == "weno" ? Limiter::Weno : Limiter::None;
     s.weno_neighbour_weight = n.weno_neighbour_weight();
@@ -382,35 +563,24 @@ std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
         bc[2] = boundary(c.boundaries().y_min());
         bc[3] = boundary(c.boundaries().y_max());
     }
-    const auto& mat = c.materials(material_index(c, c.regions(0).material()));
-    if (mat.has_stiffened_gas()) {
-        StiffenedGas eos{mat.stiffened_gas().gamma(), mat.stiffened_gas().p_inf()};
-        return build_dim(c, mesh, eos, s, bc);
-    }
-    const auto& t = mat.tait();
-    if (t.as_stiffened_gas()) {
-        StiffenedGas eos{t.gamma(), t.b() - t.a()};
-        return build_dim(c, mesh, eos, s, bc);
-    }
-    Tait eos;
-    eos.gamma = t.gamma();
-    eos.B = t.b();
-    eos.A = t.a();
-    eos.rho0 = t.rho0();
-    eos.cavitation = c.cavitation().enabled();
-    if (eos.cavitation) {
-        auto& cv = eos.cav;
-        cv.p_cav = c.cavitation().p_cav();
-        cv.rho_g_cav = c.cavitation().rho_g_cav();
-        cv.gamma_g = c.cavitation().gamma_g();
-        cv.alpha0 = c.cavitation().alpha0();
-        cv.gamma_w = eos.gamma;
-        cv.B = eos.B;
-        cv.A = eos.A;
-        cv.rho0 = eos.rho0;
-        cv.finalize();
-    }
-    return build_dim(c, mesh, eos, s, bc);
+    const auto eos_plus = eos_of(c, c.materials(material_index(c, c.regions(0).material())));
+    const cfg::Region* other = nullptr;
+    for (const auto& r : c.regions())
+        if (r.material() != c.regions(0).material() && !other) other = &r;
+    if (!other) return std::visit([&](const auto& eos) { return build_dim(c, mesh, eos, s, bc); }, eos_plus);
+    InterfaceSettings is;
+    const auto& in = c.interface();
+    is.method = in.method() == "original_gfm"   ? GhostMethod::Original
+                : in.method() == "modified_gfm" ? GhostMethod::Modified
+                                                : GhostMethod::Real;
+    is.riemann = in.riemann() == "exact" ? InterfaceRiemann::Exact : InterfaceRiemann::DoubleShock;
+    is.band_cells = in.band_cells();
+    is.reinit_every = in.reinit_every();
+    is.reinit_iterations = in.reinit_iterations();
+    const auto eos_minus = eos_of(c, c.materials(material_index(c, other->material())));
+    return std::visit(
+        [&](const auto& em, const auto& ep) { return build_two_dim(c, mesh, em, ep, s, bc, is); }, eos_minus,
+        eos_plus);
 }
 
 } // namespace undex::fluid

@@ -42,5 +42,7 @@ struct NamedOption {
 };
 const std::vector<NamedOption>& indicator_names();
 const std::vector<NamedOption>& limiter_names();
+const std::vector<NamedOption>& ghost_method_names();
+const std::vector<NamedOption>& interface_riemann_names();
 
 } // namespace undex::fluid

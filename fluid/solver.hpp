@@ -75,6 +75,9 @@ class FluidSolver {
     virtual std::vector<double> totals() const = 0;
     // Number of cells the indicator marked in the last step (all stages).
     virtual long troubled_cells() const = 0;
+    // Level set φ at the interior cell centres (index j·nx + i) of a two-fluid run; empty for one fluid.
+    virtual std::vector<double> level_set() const { return {}; }
+    virtual void set_level_set(const std::vector<double>& /*phi*/) {}
 };
 
 } // namespace undex::fluid

@@ -1,0 +1,360 @@
+// Two fluids separated by a sharp interface (physics.md §4): a level set φ marks the fluids (the "minus"
+// fluid where φ < 0, the "plus" fluid where φ ≥ 0), each fluid is solved by its own RKDG scheme in its real
+// region and a ghost band of `band_cells` cells beyond the interface, and the ghost fluid method couples
+// them once per step:
+//   real GFM (Wang, Liu and Khoo 2006): the two-material Riemann problem along the normal between the real
+//     states on either side gives (p*, u*, ρ*_minus, ρ*_plus); it redefines the real cell next to the
+//     interface and, extrapolated at constant value along the normal (paper eq. 33), fills the ghost band;
+//   modified GFM (Liu, Khoo and Yeo 2003): the same interface states fill the ghost band only; the real
+//     cells keep their own solution;
+//   original GFM (Fedkiw et al. 1999): ghost cells take pressure and velocity from the real fluid there and
+//     the entropy of their own fluid, extrapolated from the interface.
+// The level set moves with the extension of the interface velocity u*·n and is reinitialised periodically.
+#pragma once
+#include "interface_riemann.hpp"
+#include "level_set.hpp"
+#include "scheme.hpp"
+
+#include <cmath>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+namespace undex::fluid {
+
+enum class GhostMethod { Real, Modified, Original };
+
+struct InterfaceSettings {
+    GhostMethod method = GhostMethod::Real;
+    InterfaceRiemann riemann = InterfaceRiemann::DoubleShock;
+    int band_cells = 3;        // ghost cells solved beyond the interface
+    int reinit_every = 5;      // steps between reinitialisations of φ (0: never)
+    int reinit_iterations = 3; // pseudo-time iterations per reinitialisation
+};
+
+template <class Eos> RiemannMaterial riemann_material(const Eos& eos) {
+    RiemannMaterial m;
+    m.gamma = eos.gamma;
+    if constexpr (Eos::barotropic) {
+        m.pi = eos.B - eos.A;
+        m.tait = true;
+        m.B = eos.B;
+        m.rho0 = eos.rho0;
+    } else {
+        m.pi = eos.p_inf;
+    }
+    return m;
+}
+
+template <int D, int K, class EosM, class EosP> class TwoFluid final : public FluidSolver {
+  public:
+    TwoFluid(const Mesh& mesh, const EosM& eos_m, const EosP& eos_p, const Settings& s,
+             const std::array<Boundary, 4>& bc, const InterfaceSettings& is)
+        : mesh_(mesh), set_(is), minus_(mesh, eos_m, s, bc), plus_(mesh, eos_p, s, bc), phi_(mesh),
+          mat_m_(riemann_material(eos_m)), mat_p_(riemann_material(eos_p)) {
+        active_m_.assign(mesh_.padded_cells(), 0);
+        active_p_.assign(mesh_.padded_cells(), 0);
+        minus_.set_active(&active_m_);
+        plus_.set_active(&active_p_);
+    }
+
+    // Initial data: φ at cell centres and each fluid's conserved state q(x, y) continued over the whole
+    // domain; then the first interface treatment.
+    void initialise(const std::function<double(double, double)>& phi,
+                    const std::function<void(double, double, double*)>& minus_at,
+                    const std::function<void(double, double, double*)>& plus_at) {
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i)
+                phi_(i, j) = phi(mesh_.xc(i), mesh_.yc(j));
+        minus_.set_active(nullptr);
+        plus_.set_active(nullptr);
+        minus_.project(minus_at);
+        plus_.project(plus_at);
+        minus_.set_active(&active_m_);
+        plus_.set_active(&active_p_);
+        update_masks();
+        treat_interface();
+    }
+
+    const Mesh& mesh() const override { return mesh_; }
+    int degree() const override { return K; }
+    int variables() const override { return D + 2; }
+    int basis_functions() const override { return Basis<D, K>::NB; }
+    double time() const override { return minus_.time(); }
+    long steps() const override { return minus_.steps(); }
+    long troubled_cells() const override { return minus_.troubled_cells() + plus_.troubled_cells(); }
+    bool has_cavitation() const override { return minus_.has_cavitation() || plus_.has_cavitation(); }
+    double void_fraction(double p) const override {
+        return plus_.has_cavitation() ? plus_.void_fraction(p) : minus_.void_fraction(p);
+    }
+
+    double stable_dt() const override { return std::min(minus_.stable_dt(), plus_.stable_dt()); }
+
+    void step(double dt) override {
+        treat_interface();
+        minus_.step(dt);
+        try {
+            plus_.step(dt);
+        } catch (const SolverFailure&) {
+            minus_.revert_step();
+            throw;
+        }
+        phi_.advect(wx_, wy_, dt);
+        if (set_.reinit_every > 0 && minus_.steps() % set_.reinit_every == 0)
+            phi_.reinitialise(set_.reinit_iterations);
+        update_masks();
+    }
+
+    void project(const std::function<void(double, double, double*)>&) override {
+        throw std::logic_error("a two-fluid solver is initialised with initialise(), not project()");
+    }
+
+    std::vector<double> coefficients() const override {
+        auto m = minus_.coefficients();
+        const auto p = plus_.coefficients();
+        const int nc = variables() * basis_functions();
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i)
+                if (phi_(i, j) >= 0) {
+                    const long k = (static_cast<long>(j) * mesh_.nx + i) * nc;
+                    std::copy_n(p.begin() + k, nc, m.begin() + k);
+                }
+        return m;
+    }
+    void set_coefficients(const std::vector<double>& c, double time) override {
+        minus_.set_coefficients(c, time);
+        plus_.set_coefficients(c, time);
+    }
+    std::vector<double> level_set() const override { return phi_.values(); }
+    void set_level_set(const std::vector<double>& phi) override {
+        if (phi.size() != phi_.values().size()) throw std::runtime_error("level set does not match the mesh");
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i)
+                phi_(i, j) = phi[static_cast<long>(j) * mesh_.nx + i];
+    }
+
+    Primitive evaluate(double x, double y) const override {
+        int i = static_cast<int>(std::floor((x - mesh_.x_min) / mesh_.dx));
+        int j = D == 2 ? static_cast<int>(std::floor((y - mesh_.y_min) / mesh_.dy)) : 0;
+        i = std::clamp(i, 0, mesh_.nx - 1);
+        j = std::clamp(j, 0, mesh_.ny - 1);
+        return phi_(i, j) < 0 ? minus_.evaluate(x, y) : plus_.evaluate(x, y);
+    }
+    Primitive cell_average(int i, int j) const override {
+        return phi_(i, j) < 0 ? minus_.cell_average(i, j) : plus_.cell_average(i, j);
+    }
+    std::vector<double> totals() const override {
+        std::vector<double> t(variables(), 0.0);
+        const auto c = coefficients();
+        const int nb = basis_functions(), nc = variables() * nb;
+        const double vol = mesh_.dx * (D == 2 ? mesh_.dy : 1.0);
+        for (long k = 0; k < static_cast<long>(mesh_.nx) * mesh_.ny; ++k)
+            for (int v = 0; v < variables(); ++v)
+                t[v] += c[k * nc + v * nb] * vol;
+        return t;
+    }
+
+  private:
+    Mesh mesh_;
+    InterfaceSettings set_;
+    Scheme<D, K, EosM> minus_;
+    Scheme<D, K, EosP> plus_;
+    LevelSet phi_;
+    RiemannMaterial mat_m_, mat_p_;
+    std::vector<char> active_m_, active_p_;
+    std::vector<double> wx_, wy_; // extension velocity of the level set
+
+    long at(int i, int j) const { return static_cast<long>(j) * mesh_.nx + i; }
+    double h() const { return D == 2 ? std::max(mesh_.dx, mesh_.dy) : mesh_.dx; }
+
+    // Each fluid is active in its real region and within band_cells cells beyond the interface.
+    void update_masks() {
+        const double band = set_.band_cells * h();
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i) {
+                const double f = phi_(i, j);
+                active_m_[mesh_.index(i, j)] = f < 0 || f <= band;
+                active_p_[mesh_.index(i, j)] = f >= 0 || -f <= band;
+            }
+    }
+
+    // Fields of one fluid during the interface treatment: primitive state per interior cell.
+    struct Fields {
+        std::vector<double> rho, u, v, p;
+        std::vector<char> known;
+        std::vector<double*> all() { return {rho.data(), u.data(), v.data(), p.data()}; }
+    };
+
+    template <class S> Fields read_fields(const S& scheme, bool minus) const {
+        const long n = static_cast<long>(mesh_.nx) * mesh_.ny;
+        Fields f{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n),
+                 std::vector<double>(n), std::vector<char>(n)};
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i) {
+                const Primitive w = scheme.cell_average(i, j);
+                const long k = at(i, j);
+                f.rho[k] = w.rho, f.u[k] = w.u, f.v[k] = w.v, f.p[k] = w.p;
+                f.known[k] = (phi_(i, j) < 0) == minus;
+            }
+        return f;
+    }
+
+    // Weighted mean of the other fluid's real states around cell (i, j), favouring the cells that lie
+    // across the interface along the normal (sign +1: towards φ > 0).
+    bool across(const Fields& other, int i, int j, const std::array<double, 2>& n, double sign,
+                Primitive& w) const {
+        double wsum = 0, acc[4] = {0, 0, 0, 0}, any = 0, acc_any[4] = {0, 0, 0, 0};
+        for (int b = (D == 2 ? -1 : 0); b <= (D == 2 ? 1 : 0); ++b)
+            for (int a = -1; a <= 1; ++a) {
+                const int ni = i + a, nj = j + b;
+                if ((a == 0 && b == 0) || ni < 0 || ni >= mesh_.nx || nj < 0 || nj >= mesh_.ny) continue;
+                const long k = at(ni, nj);
+                if (!other.known[k]) continue;
+                const double ex = a * mesh_.dx, ey = b * mesh_.dy, len = std::hypot(ex, ey);
+                const double wk = std::max(0.0, sign * (n[0] * ex + n[1] * ey) / len);
+                const double q[4] = {other.rho[k], other.u[k], other.v[k], other.p[k]};
+                for (int c = 0; c < 4; ++c)
+                    acc[c] += wk * q[c], acc_any[c] += q[c];
+                wsum += wk;
+                any += 1;
+            }
+        if (any == 0) return false;
+        const double* s = wsum > 1e-12 ? acc : acc_any;
+        const double d = wsum > 1e-12 ? wsum : any;
+        w = {s[0] / d, s[1] / d, s[2] / d, s[3] / d};
+        return true;
+    }
+
+    [[noreturn]] void fail(int i, int j, const std::string& what) const {
+        std::ostringstream s;
+        s << what << " at the interface in cell (" << i;
+        if (D == 2) s << ", " << j;
+        s << ") at x = " << mesh_.xc(i);
+        if (D == 2) s << ", y = " << mesh_.yc(j);
+        s << ", t = " << time() << " s";
+        throw SolverFailure(s.str());
+    }
+
+    // Interface states, ghost bands and the extension velocity (physics.md §4, paper §3.2).
+    void treat_interface() {
+        const int nx = mesh_.nx, ny = mesh_.ny;
+        const long n = static_cast<long>(nx) * ny;
+        Fields fm = read_fields(minus_, true), fp = read_fields(plus_, false);
+        std::vector<double> un(n, 0.0);
+        std::vector<char> un_known(n, 0);
+        // Original GFM: entropy-like quantity S = ρ / (p + Π)^(1/γ) of each fluid, extrapolated from its
+        // side.
+        std::vector<double> sm, sp;
+        if (set_.method == GhostMethod::Original) {
+            sm.resize(n), sp.resize(n);
+            for (long k = 0; k < n; ++k) {
+                sm[k] = fm.rho[k] / std::pow(std::max(fm.p[k] + mat_m_.pi, 1e-300), 1.0 / mat_m_.gamma);
+                sp[k] = fp.rho[k] / std::pow(std::max(fp.p[k] + mat_p_.pi, 1e-300), 1.0 / mat_p_.gamma);
+            }
+        }
+        // Interface cells: real cells with a 4-neighbour of the other fluid.
+        std::vector<std::array<int, 2>> cells;
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                const bool neg = phi_(i, j) < 0;
+                bool cut = false;
+                if (i > 0) cut |= (phi_(i - 1, j) < 0) != neg;
+                if (i + 1 < nx) cut |= (phi_(i + 1, j) < 0) != neg;
+                if (D == 2 && j > 0) cut |= (phi_(i, j - 1) < 0) != neg;
+                if (D == 2 && j + 1 < ny) cut |= (phi_(i, j + 1) < 0) != neg;
+                if (cut) cells.push_back({i, j});
+            }
+        std::vector<Primitive> redefined(cells.size());
+        for (size_t c = 0; c < cells.size(); ++c) {
+            const int i = cells[c][0], j = cells[c][1];
+            const long k = at(i, j);
+            const bool neg = phi_(i, j) < 0;
+            std::array<double, 2> nrm = phi_.normal(i, j);
+            if (D == 1) nrm = {nrm[0] >= 0 ? 1.0 : -1.0, 0.0};
+            const Fields& own = neg ? fm : fp;
+            const Primitive w_own{own.rho[k], own.u[k], own.v[k], own.p[k]};
+            Primitive w_other;
+            if (!across(neg ? fp : fm, i, j, nrm, neg ? 1.0 : -1.0, w_other)) continue;
+            const Primitive& wl = neg ? w_own : w_other; // minus side is "left" along n
+            const Primitive& wr = neg ? w_other : w_own;
+            const double unl = wl.u * nrm[0] + wl.v * nrm[1], unr = wr.u * nrm[0] + wr.v * nrm[1];
+            if (set_.method == GhostMethod::Original) {
+                un[k] = 0.5 * (unl + unr);
+                un_known[k] = 1;
+                continue;
+            }
+            InterfaceState st;
+            try {
+                st = solve_interface(mat_m_, {wl.rho, unl, wl.p}, mat_p_, {wr.rho, unr, wr.p}, set_.riemann);
+            } catch (const std::runtime_error& e) {
+                fail(i, j, e.what());
+            }
+            if (!std::isfinite(st.p) || !std::isfinite(st.u)) fail(i, j, "non-finite interface state");
+            un[k] = st.u;
+            un_known[k] = 1;
+            const double ut_u = w_own.u - (neg ? unl : unr) * nrm[0],
+                         ut_v = w_own.v - (neg ? unl : unr) * nrm[1];
+            redefined[c] = {neg ? st.rho_l : st.rho_r, ut_u + st.u * nrm[0],
+                            D == 2 ? ut_v + st.u * nrm[1] : 0.0, st.p};
+            Fields& f = neg ? fm : fp;
+            f.rho[k] = redefined[c].rho, f.u[k] = redefined[c].u, f.v[k] = redefined[c].v,
+            f.p[k] = redefined[c].p;
+        }
+        // Ghost bands by constant extrapolation along the normal, one cell wider than the active band so
+        // that the outermost active cells see fresh neighbours.
+        const double cells_wide = set_.band_cells + 1, band = cells_wide * h();
+        if (set_.method != GhostMethod::Original) {
+            phi_.extrapolate(fm.all(), fm.known, cells_wide);
+            phi_.extrapolate(fp.all(), fp.known, cells_wide);
+        } else {
+            phi_.extrapolate({sm.data()}, fm.known, cells_wide);
+            phi_.extrapolate({sp.data()}, fp.known, cells_wide);
+        }
+        phi_.extrapolate({un.data()}, un_known, cells_wide);
+        wx_.assign(n, 0.0);
+        wy_.assign(n, 0.0);
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                const long k = at(i, j);
+                const double f = phi_(i, j);
+                if (std::abs(f) > band) continue;
+                std::array<double, 2> nrm = phi_.normal(i, j);
+                if (D == 1) nrm = {nrm[0] >= 0 ? 1.0 : -1.0, 0.0};
+                wx_[k] = un[k] * nrm[0];
+                wy_[k] = un[k] * nrm[1];
+                const bool neg = f < 0;
+                if (set_.method != GhostMethod::Original) {
+                    // Ghost cells of the other fluid here.
+                    if (neg)
+                        plus_.set_cell_state(i, j, {fp.rho[k], fp.u[k], fp.v[k], fp.p[k]});
+                    else
+                        minus_.set_cell_state(i, j, {fm.rho[k], fm.u[k], fm.v[k], fm.p[k]});
+                } else {
+                    // Pressure and velocity of the real fluid, entropy of the ghost fluid.
+                    const Fields& real = neg ? fm : fp;
+                    const RiemannMaterial& gm = neg ? mat_p_ : mat_m_;
+                    const double s = neg ? sp[k] : sm[k];
+                    const double pbar =
+                        std::max(real.p[k] + gm.pi, 1e-6 * (std::abs(real.p[k]) + gm.pi + 1.0));
+                    double rho = s * std::pow(pbar, 1.0 / gm.gamma);
+                    if (gm.tait) rho = gm.rho0 * std::pow(pbar / gm.B, 1.0 / gm.gamma);
+                    const Primitive g{rho, real.u[k], real.v[k], pbar - gm.pi};
+                    if (neg)
+                        plus_.set_cell_state(i, j, g);
+                    else
+                        minus_.set_cell_state(i, j, g);
+                }
+            }
+        if (set_.method == GhostMethod::Real)
+            for (size_t c = 0; c < cells.size(); ++c) {
+                const int i = cells[c][0], j = cells[c][1];
+                if (!(redefined[c].rho > 0)) continue; // no state across (isolated cell)
+                if (phi_(i, j) < 0)
+                    minus_.set_cell_state(i, j, redefined[c]);
+                else
+                    plus_.set_cell_state(i, j, redefined[c]);
+            }
+    }
+};
+
+} // namespace undex::fluid
