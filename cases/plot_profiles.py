@@ -1,11 +1,15 @@
 #!/usr/bin/python3
 """Plot density, velocity and pressure profiles (and the void fraction, when present) of an undex run.
 
-    plot_profiles.py OUTDIR [--time T] [--output PNG]
+    plot_profiles.py OUTDIR [--time T] [--output PNG] [--reference OUTDIR2] [--reference-csv CSV]
 
 Reads OUTDIR/fluid.h5 (layout: fluid/output.hpp), picks the output nearest the time T (default: the last
 output) and draws the cell averages against x in stacked panels. A 2D output is plotted along the row of
 cells nearest y = 0. The figure goes to OUTDIR/profiles.png unless --output is given.
+A reference is drawn as a black line: another run (--reference, its output nearest the same time, e.g. the
+1D cylindrical bubble for the 2D free field) or a CSV with header x,rho,u,p (--reference-csv, e.g. the exact
+solution written by `build/bin/undex_1d_error CASE --exact CSV`). A two-fluid run also marks the interface
+(zero of the level set phi) with a dotted vertical line.
 """
 import argparse
 import os
@@ -39,12 +43,18 @@ def case_name(h5, outdir):
     return os.path.basename(os.path.normpath(outdir))
 
 
+def name_of_run(h5_path):
+    return os.path.basename(os.path.dirname(os.path.abspath(h5_path))) or "run"
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("outdir", metavar="OUTDIR", help="output directory of a run (holding fluid.h5), or the .h5 file")
     parser.add_argument("--time", type=float, default=None, metavar="T",
                         help="plot the output nearest this time in s (default: the last output)")
     parser.add_argument("--output", default=None, metavar="PNG", help="figure file (default: OUTDIR/profiles.png)")
+    parser.add_argument("--reference", default=None, metavar="OUTDIR2", help="a reference run drawn as a line")
+    parser.add_argument("--reference-csv", default=None, metavar="CSV", help="a reference profile x,rho,u,p")
     args = parser.parse_args(argv)
 
     if os.path.isdir(args.outdir):
@@ -84,6 +94,12 @@ def main(argv=None):
         if "void_fraction" in group:
             panels.append(("void_fraction", r"void fraction $\alpha$"))
         data = [(take(name), label) for name, label in panels]
+        interfaces = []
+        if "phi" in group:
+            phi = take("phi")
+            for i in range(len(phi) - 1):
+                if (phi[i] < 0) != (phi[i + 1] < 0):
+                    interfaces.append(x[i] + (x[i + 1] - x[i]) * phi[i] / (phi[i] - phi[i + 1]))
         name = case_name(h5, args.outdir)
         status = text_attr(h5, "status", "complete")
         last_good = int(group.attrs.get("last_good", 0))
@@ -94,14 +110,39 @@ def main(argv=None):
     if last_good:
         title += "\n(last good state before a failure)"
 
+    reference = {}
+    ref_label = ""
+    if args.reference:
+        ref_path = os.path.join(args.reference, "fluid.h5") if os.path.isdir(args.reference) else args.reference
+        with h5py.File(ref_path, "r") as rh5:
+            rgroups = sorted(rh5["fields"].keys())
+            rtimes = np.array([float(rh5["fields"][g].attrs["time"]) for g in rgroups])
+            rg = rh5["fields"][rgroups[int(np.argmin(np.abs(rtimes - t)))]]
+            reference = {"x": rh5["x"][()]}
+            for field in ("rho", "u", "p", "void_fraction"):
+                if field in rg:
+                    values = rg[field][()]
+                    reference[field] = values if values.ndim == 1 else values[int(np.argmin(np.abs(rh5["y"][()]))), :]
+            ref_label = case_name(rh5, args.reference)
+    elif args.reference_csv:
+        table = np.genfromtxt(args.reference_csv, delimiter=",", names=True, comments="#")
+        reference = {field: table[field] for field in table.dtype.names}
+        ref_label = os.path.basename(args.reference_csv)
+
     fig, axes = plt.subplots(len(data), 1, sharex=True, figsize=(8, 2.3 * len(data) + 0.8), squeeze=False)
     axes = axes[:, 0]
-    for ax, (values, label) in zip(axes, data):
-        ax.plot(x, values, "-", color="tab:blue", linewidth=0.8)
+    for ax, (values, label), (field, _) in zip(axes, data, panels):
+        ax.plot(x, values, "-", color="tab:blue", linewidth=0.8, label=name_of_run(h5_path))
         ax.plot(x, values, "o", color="tab:blue", markersize=2)
+        if field in reference:
+            ax.plot(reference["x"], reference[field], "-", color="black", linewidth=0.9, label=ref_label)
+        for xi in interfaces:
+            ax.axvline(xi, color="tab:gray", linestyle=":", linewidth=0.8)
         ax.set_ylabel(label)
         ax.grid(True, linewidth=0.3, alpha=0.6)
         ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4), useMathText=True)
+    if reference:
+        axes[0].legend(loc="best", fontsize=8)
     axes[-1].set_xlabel("x (m)")
     axes[-1].set_xlim(x[0] - 0.5 * (x[1] - x[0]) if len(x) > 1 else None,
                       x[-1] + 0.5 * (x[-1] - x[-2]) if len(x) > 1 else None)

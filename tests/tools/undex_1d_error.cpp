@@ -1,7 +1,9 @@
 // Runs case 4.1 (or any variant of it given by --set overrides) in process and prints its errors against
 // the exact solution of its water model, and the wall time of the time stepping, as one CSV line:
 //   degree,cells,water,wall_s,l1_rho,l1_u,l1_p,l1_p_rel,p_star,shock_err_cells,interface_err_cells,head_err_cells
-// Usage: undex_1d_error CASE [--set key=value ...] [--bins N]
+// Usage: undex_1d_error CASE [--set key=value ...] [--bins N] [--exact CSV]
+// --exact CSV writes the exact solution of the case's water model at its end time (x,rho,u,p, 4000 points)
+// and stops without running the case.
 // --bins N also prints, to standard error, the share of L1(p)/p* from each of N equal bins of [0, 1].
 #include "case.pb.h"
 #include "undex_1d.hpp"
@@ -22,12 +24,15 @@ int main(int argc, char** argv) {
         }
         std::vector<std::string> sets;
         int bins = 0;
+        std::string exact_csv;
         for (int k = 2; k < argc; ++k) {
             const std::string a = argv[k];
             if (a == "--set" && k + 1 < argc)
                 sets.push_back(argv[++k]);
             else if (a == "--bins" && k + 1 < argc)
                 bins = std::stoi(argv[++k]);
+            else if (a == "--exact" && k + 1 < argc)
+                exact_csv = argv[++k];
             else
                 throw std::invalid_argument("unknown argument '" + a + "'");
         }
@@ -39,6 +44,19 @@ int main(int argc, char** argv) {
         for (const auto& m : c.materials())
             sg |= m.has_tait() && m.tait().as_stiffened_gas();
         const double t = c.end_time();
+        if (!exact_csv.empty()) {
+            const auto ex = undex::test::undex_1d_exact(sg);
+            std::FILE* f = std::fopen(exact_csv.c_str(), "w");
+            if (!f) throw std::runtime_error(exact_csv + ": cannot write");
+            std::fprintf(f, "x,rho,u,p\n");
+            for (int k = 0; k < 4000; ++k) {
+                const double x = (k + 0.5) / 4000;
+                const auto w = ex.sample((x - 0.5) / t);
+                std::fprintf(f, "%.9g,%.12g,%.12g,%.12g\n", x, w.rho, w.u, w.p);
+            }
+            std::fclose(f);
+            return 0;
+        }
         const double wall = undex::test::advance(*s, t);
         const auto ex = undex::test::undex_1d_exact(sg);
         const auto e = undex::test::undex_1d_errors(*s, ex, 0.5, t);
