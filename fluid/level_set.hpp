@@ -39,7 +39,7 @@ class LevelSet {
     void advect(const std::vector<double>& wx, const std::vector<double>& wy, double dt) {
         rk3(dt, [&](const std::vector<double>& phi, std::vector<double>& rate) {
             fill_padded(phi);
-#pragma omp parallel for
+#pragma omp parallel for if (dim_ == 2)
             for (int j = 0; j < ny_; ++j)
                 for (int i = 0; i < nx_; ++i) {
                     const int c = j * nx_ + i, p = padded(i, j);
@@ -57,7 +57,13 @@ class LevelSet {
     // Pseudo-time steps of φ_τ + S(φ0)(|∇φ| − 1) = 0 with the Godunov Hamiltonian. The smoothed sign
     // S = φ0/sqrt(φ0² + |∇φ0|² h²) (Peng et al., JCP 155, 1999) smears over one cell of distance even when
     // φ0 is far from a distance function; for |∇φ0| = 1 it is φ0/sqrt(φ0² + h²).
+    // In 1D the distance is exact and cheap: φ becomes the signed distance to the nearest zero crossing
+    // (linear between cell centres), so `iterations` plays no part there.
     void reinitialise(int iterations) {
+        if (dim_ == 1) {
+            redistance_1d();
+            return;
+        }
         const double h = dim_ == 2 ? std::max(dx_, dy_) : dx_;
         const double dtau = 0.3 * (dim_ == 2 ? std::min(dx_, dy_) : dx_);
         std::vector<double> sign0(phi_.size());
@@ -71,7 +77,7 @@ class LevelSet {
         for (int it = 0; it < iterations; ++it)
             rk3(dtau, [&](const std::vector<double>& phi, std::vector<double>& rate) {
                 fill_padded(phi);
-#pragma omp parallel for
+#pragma omp parallel for if (dim_ == 2)
                 for (int j = 0; j < ny_; ++j)
                     for (int i = 0; i < nx_; ++i) {
                         const int c = j * nx_ + i, p = padded(i, j);
@@ -155,6 +161,20 @@ class LevelSet {
     }
 
   private:
+    void redistance_1d() {
+        std::vector<double> zeros;
+        for (int i = 0; i + 1 < nx_; ++i)
+            if ((phi_[i] < 0) != (phi_[i + 1] < 0))
+                zeros.push_back(i * dx_ + dx_ * phi_[i] / (phi_[i] - phi_[i + 1])); // offset from cell 0
+        if (zeros.empty()) return;
+        size_t z = 0;
+        for (int i = 0; i < nx_; ++i) {
+            const double x = i * dx_;
+            while (z + 1 < zeros.size() && std::abs(zeros[z + 1] - x) < std::abs(zeros[z] - x)) ++z;
+            phi_[i] = std::copysign(std::abs(x - zeros[z]), phi_[i] < 0 ? -1.0 : 1.0);
+        }
+    }
+
     int dim_, nx_, ny_;
     int px_; // row stride of pad_
     double dx_, dy_;

@@ -33,6 +33,7 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
         fx_.assign(static_cast<long>(mesh_.nx + 1) * mesh_.ny * NQF * NV, 0.0);
         if (D == 2) fy_.assign(static_cast<long>(mesh_.ny + 1) * mesh_.nx * NQF * NV, 0.0);
         troubled_flag_.assign(mesh_.padded_cells(), 0);
+        active_changed();
         const double gx = 2.0 / mesh_.dx, gy = 2.0 / mesh_.dy;
         for (int l = 0; l < NB; ++l) {
             for (int q = 0; q < NQV; ++q) {
@@ -93,9 +94,9 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
 
     double stable_dt() const override {
         double inv = 0.0;
-#pragma omp parallel for reduction(max : inv) schedule(static)
+#pragma omp parallel for reduction(max : inv) schedule(static) if (D == 2)
         for (int j = 0; j < mesh_.ny; ++j)
-            for (int i = 0; i < mesh_.nx; ++i) {
+            for (int i = lo_[j]; i < hi_[j]; ++i) {
                 if (!active(i, j)) continue;
                 const double* c = cell(u_.data(), i, j);
                 double q[NV];
@@ -112,6 +113,7 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
 
     void step(double dt) override {
         u0_ = u_;
+        stage_ = u_; // cells outside the active rows keep their values through the stages
         troubled_ = 0;
         try {
             // Stage 1: U1 = U + dt L(U)
@@ -151,6 +153,19 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     // each fluid only in its real region and its ghost band.
     void set_active(const std::vector<char>* mask) {
         active_ = mask;
+        active_changed();
+    }
+    // To be called whenever the mask's contents change: loops run over each row's span of active cells.
+    void active_changed() {
+        lo_.assign(mesh_.ny, 0);
+        hi_.assign(mesh_.ny, active_ ? 0 : mesh_.nx);
+        if (!active_) return;
+        for (int j = 0; j < mesh_.ny; ++j) {
+            int lo = mesh_.nx, hi = 0;
+            for (int i = 0; i < mesh_.nx; ++i)
+                if ((*active_)[mesh_.index(i, j)]) lo = std::min(lo, i), hi = i + 1;
+            if (hi > lo) lo_[j] = lo, hi_[j] = hi;
+        }
     }
 
     // Sets cell (i, j) to the constant polynomial of a primitive state.
@@ -241,6 +256,7 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     double time_ = 0.0, last_dt_ = 0.0;
     long steps_ = 0;
     const std::vector<char>* active_ = nullptr;
+    std::vector<int> lo_, hi_; // per row: the active cells lie in [lo, hi)
 
     bool active(int i, int j) const {
         return !active_ || (*active_)[mesh_.index(i, j)];
@@ -272,11 +288,15 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     // out = a·x + b·(y + dt·rhs)  (b·dt folded into `bdt`)
     void axpy(std::vector<double>& out, double a, const std::vector<double>& x, double b,
               const std::vector<double>& y, double bdt) {
-        const long n = static_cast<long>(out.size());
         const double* r = rhs_.data();
-#pragma omp parallel for schedule(static)
-        for (long k = 0; k < n; ++k)
-            out[k] = a * x[k] + b * y[k] + bdt * r[k];
+#pragma omp parallel for schedule(static) if (D == 2)
+        for (int j = 0; j < mesh_.ny; ++j) {
+            if (hi_[j] == lo_[j]) continue;
+            const long k0 = static_cast<long>(mesh_.index(lo_[j], j)) * NC;
+            const long k1 = static_cast<long>(mesh_.index(hi_[j] - 1, j) + 1) * NC;
+            for (long k = k0; k < k1; ++k)
+                out[k] = a * x[k] + b * y[k] + bdt * r[k];
+        }
     }
 
     template <int Dir> static void eval_face(const double* c, const double (*phi)[NB], int g, double* q) {
@@ -293,9 +313,9 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
         fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
         const int nx = mesh_.nx, ny = mesh_.ny;
         // Fluxes through x faces: face i lies between cells i − 1 and i.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (D == 2)
         for (int j = 0; j < ny; ++j)
-            for (int i = 0; i <= nx; ++i) {
+            for (int i = lo_[j]; i <= hi_[j] && hi_[j] > lo_[j]; ++i) {
                 if (!active(i - 1, j) && !active(i, j)) continue;
                 const double* cl = cell(U, i - 1, j);
                 const double* cr = cell(U, i, j);
@@ -309,9 +329,13 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
             }
         if constexpr (D == 2) {
             // Fluxes through y faces: face j lies between cells j − 1 and j.
-#pragma omp parallel for schedule(static)
-            for (int j = 0; j <= ny; ++j)
-                for (int i = 0; i < nx; ++i) {
+#pragma omp parallel for schedule(static) if (D == 2)
+            for (int j = 0; j <= ny; ++j) {
+                // Faces of this row touch the cells of rows j − 1 and j.
+                int i0 = nx, i1 = 0;
+                for (int r : {j - 1, j})
+                    if (r >= 0 && r < ny && hi_[r] > lo_[r]) i0 = std::min(i0, lo_[r]), i1 = std::max(i1, hi_[r]);
+                for (int i = i0; i < i1; ++i) {
                     if (!active(i, j - 1) && !active(i, j)) continue;
                     const double* cb = cell(U, i, j - 1);
                     const double* ct = cell(U, i, j);
@@ -323,12 +347,13 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                         hllc_flux<NV, 1>(eos_, qb, pressure(qb), qt, pressure(qt), f + g * NV);
                     }
                 }
+            }
         }
         const double idx = 1.0 / mesh_.dx, idy = 1.0 / mesh_.dy;
         const double alpha = mesh_.alpha;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (D == 2)
         for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
+            for (int i = lo_[j]; i < hi_[j]; ++i) {
                 if (!active(i, j)) {
                     std::fill_n(cell(rhs_.data(), i, j), NC, 0.0);
                     continue;
@@ -426,13 +451,13 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     }
 
     void mark_troubled(const double* U) {
-        const int nx = mesh_.nx, ny = mesh_.ny;
+        const int ny = mesh_.ny;
         const double lx = mesh_.x_max - mesh_.x_min, ly = mesh_.y_max - mesh_.y_min;
         const double hx2 = (mesh_.dx / lx) * (mesh_.dx / lx), hy2 = (mesh_.dy / ly) * (mesh_.dy / ly);
         long count = 0;
-#pragma omp parallel for reduction(+ : count) schedule(static)
+#pragma omp parallel for reduction(+ : count) schedule(static) if (D == 2)
         for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
+            for (int i = lo_[j]; i < hi_[j]; ++i) {
                 bool bad = set_.indicator == Indicator::All && active(i, j);
                 const double* c = cell(U, i, j);
                 if (!active(i, j)) {
@@ -474,15 +499,15 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     }
 
     void weno(double* U) {
-        const int nx = mesh_.nx, ny = mesh_.ny;
+        const int ny = mesh_.ny;
         // Limited polynomials go to rhs_ (free at this point) and are copied back, so that every cell is
         // limited from its neighbours' unlimited polynomials.
         double* out = rhs_.data();
         const double g_nb = set_.weno_neighbour_weight, eps = set_.weno_epsilon;
         const double g_c = 1.0 - 2 * D * g_nb;
-#pragma omp parallel for schedule(dynamic, 16)
+#pragma omp parallel for schedule(dynamic, 16) if (D == 2)
         for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
+            for (int i = lo_[j]; i < hi_[j]; ++i) {
                 if (!troubled_flag_[mesh_.index(i, j)]) continue;
                 const double* c = cell(U, i, j);
                 // Candidate polynomials: own, then neighbours −x, +x, −y, +y shifted to this cell's average.
@@ -576,9 +601,9 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                         for (int l = 1; l < NB; ++l)
                             o[v * NB + l] *= theta;
             }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (D == 2)
         for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i)
+            for (int i = lo_[j]; i < hi_[j]; ++i)
                 if (troubled_flag_[mesh_.index(i, j)]) std::copy_n(cell(out, i, j), NC, cell(U, i, j));
     }
 
@@ -610,9 +635,9 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
         std::string bad_what;
         const bool scale = set_.positivity && K > 0;
         const double eps = set_.positivity_epsilon;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (D == 2)
         for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
+            for (int i = lo_[j]; i < hi_[j]; ++i) {
                 if (!active(i, j)) continue;
                 double* c = cell(U, i, j);
                 double avg[NV];

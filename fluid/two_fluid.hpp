@@ -176,6 +176,8 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
                 active_m_[mesh_.index(i, j)] = f < 0 || f <= band;
                 active_p_[mesh_.index(i, j)] = f >= 0 || -f <= band;
             }
+        minus_.active_changed();
+        plus_.active_changed();
     }
 
     // Fields of one fluid during the interface treatment: primitive state per interior cell.
