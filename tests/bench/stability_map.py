@@ -62,23 +62,30 @@ def main():
     parser.add_argument("--build", default="build")
     parser.add_argument("--out", default="out/bench")
     parser.add_argument("--cells", type=int, default=400)
+    parser.add_argument("--replot", action="store_true", help="redraw OUT/stability_map.png from its CSV")
     args = parser.parse_args()
     tool = os.path.join(args.build, "bin", "undex_1d_error")
     case = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "cases", "undex_1d.case")
     os.makedirs(args.out, exist_ok=True)
     rows = []
     combos = list(itertools.product(METHODS, LIMITERS, CFLS, DENSITIES, PRESSURES))
+    path = os.path.join(args.out, "stability_map.csv")
+    if args.replot:
+        with open(path) as f:
+            rows = [dict(r, cfl=float(r["cfl"]), rho_gas=float(r["rho_gas"]), p_gas=float(r["p_gas"]))
+                    for r in csv.DictReader(f)]
+        combos = []
     for n, (method, limiter, cfl, rho, p) in enumerate(combos, 1):
         outcome, detail = run(tool, case, args.cells, p, rho, method, limiter, cfl)
         rows.append(dict(method=method, limiter=limiter, cfl=cfl, rho_gas=rho, p_gas=p, outcome=outcome,
                          detail=detail))
         print(f"[{n}/{len(combos)}] {method:12s} limiter {limiter:4s} CFL {cfl:.1f} rho {rho:7.1f} p {p:.0e}: "
               f"{outcome:7s} {detail}", flush=True)
-    path = os.path.join(args.out, "stability_map.csv")
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
+    if not args.replot:
+        with open(path, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+            w.writeheader()
+            w.writerows(rows)
 
     # Map: one panel per (method, limiter); x: gas pressure, y: CFL × density (grouped rows).
     colours = {"ok": "#4caf50", "wrong": "#ff9800", "stopped": "#2196f3", "crash": "#000000"}
@@ -99,9 +106,9 @@ def main():
     for ax in axes[-1]:
         ax.set_xlabel("gas pressure (Pa)")
     handles = [plt.Rectangle((0, 0), 1, 1, color=colours[o]) for o in OUTCOMES]
-    fig.legend(handles, OUTCOMES, loc="upper center", ncol=4)
-    fig.suptitle(f"Case 4.1 stability map ({args.cells} cells, degree 2, Tait water)", y=0.995)
-    fig.tight_layout(rect=(0, 0, 1, 0.95))
+    fig.legend(handles, OUTCOMES, loc="lower center", ncol=4)
+    fig.suptitle(f"Case 4.1 stability map ({args.cells} cells, degree 2, Tait water)")
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
     png = os.path.join(args.out, "stability_map.png")
     fig.savefig(png, dpi=110)
 
