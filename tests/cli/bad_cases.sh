@@ -158,6 +158,18 @@ bad_case unknown-material 's/material: "air" box/material: "steam" box/' 7 'regi
 # A missing required field inside a message: regions[1].p (the line of regions[1], 7).
 bad_case missing-region-p 's/ rho: 0.125 p: 0.1 }/ rho: 0.125 }/' 7 'regions[1].p' run
 
+# Two materials (gas in the box): the interface fields are checked (line 12 holds numerics and interface).
+TWO='s/stiffened_gas { gamma: 1.4 } }/stiffened_gas { gamma: 1.4 } } materials { name: "gas" stiffened_gas { gamma: 1.4 } }/; s/material: "air" box/material: "gas" box/'
+make_case two-materials "$TWO"
+expect_ok "check valid two-material case" "$UNDEX" check "$TMP/two-materials.case"
+bad_case interface-method "$TWO; s/cfl: 0.2 }/cfl: 0.2 } interface { method: \"magic\" }/" 12 interface.method run
+bad_case interface-riemann "$TWO; s/cfl: 0.2 }/cfl: 0.2 } interface { riemann: \"guess\" }/" 12 interface.riemann
+bad_case interface-reinit "$TWO; s/cfl: 0.2 }/cfl: 0.2 } interface { reinit_every: 0 }/" 12 interface.reinit_every
+# With two materials every region after the first needs a shape: it shapes the interface (line 6).
+bad_case shapeless-second-material "$TWO; s/^regions { material: \"air\" rho: 1 p: 1 }/& regions { material: \"gas\" rho: 2 p: 2 }/" 6 'regions[1]' run
+# A third material: steam in regions[1] and gas in regions[2] besides the air of regions[0] (line 7).
+bad_case third-material "$TWO; s/^regions { material: \"air\" rho: 1 p: 1 }/& regions { material: \"steam\" box { x_max: 0.1 } rho: 2 p: 2 }/; s/stiffened_gas { gamma: 1.4 } } materials { name: \"gas\"/stiffened_gas { gamma: 1.4 } } materials { name: \"steam\" stiffened_gas { gamma: 1.3 } } materials { name: \"gas\"/" 7 'regions[2].material'
+
 # An output directory that cannot be written (line 14).
 make_case unwritable-output 's|"@OUT@"|"/proc/undex-cannot-write"|'
 f="$TMP/unwritable-output.case"
