@@ -160,7 +160,7 @@ int gauges(const Args& a) {
         names = {a.options.at("name")};
         bool found = false;
         for (const auto& g : run.gauge_names) found = found || g == names[0];
-        if (!found) throw std::invalid_argument("no gauge named '" + names[0] + "' in " + h5);
+        if (!found) throw std::runtime_error("no gauge named '" + names[0] + "' in " + h5);
     }
     if (names.empty()) throw std::runtime_error(h5 + ": the case has no gauges");
     std::vector<std::vector<std::vector<double>>> cols;

@@ -154,7 +154,7 @@ void Output::write_fields(const FluidSolver& solver, bool last_good) {
             const Primitive w = solver.cell_average(i, j);
             const long k = static_cast<long>(j) * nx_ + i;
             rho[k] = w.rho, u[k] = w.u, v[k] = w.v, p[k] = w.p;
-            if (cavitation_) alpha[k] = solver.void_fraction(w.p);
+            if (cavitation_) alpha[k] = solver.cell_void_fraction(i, j);
         }
     std::vector<hsize_t> dims =
         dim_ == 2 ? std::vector<hsize_t>{hsize_t(ny_), hsize_t(nx_)} : std::vector<hsize_t>{hsize_t(nx_)};

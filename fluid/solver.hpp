@@ -71,6 +71,8 @@ class FluidSolver {
     // Void fraction of the cavitation model at pressure p (0 without cavitation).
     virtual double void_fraction(double p) const = 0;
     virtual bool has_cavitation() const = 0;
+    // Void fraction of the cell average of interior cell (i, j) (0 in a cell of a fluid without cavitation).
+    virtual double cell_void_fraction(int i, int j) const { return void_fraction(cell_average(i, j).p); }
     // Total mass, momentum and energy (∫U dx over the interior, planar measure).
     virtual std::vector<double> totals() const = 0;
     // Number of cells the indicator marked in the last step (all stages).

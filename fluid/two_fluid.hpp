@@ -88,6 +88,10 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
         return plus_.has_cavitation() ? plus_.void_fraction(p) : minus_.void_fraction(p);
     }
 
+    double cell_void_fraction(int i, int j) const override {
+        return phi_(i, j) < 0 ? minus_.cell_void_fraction(i, j) : plus_.cell_void_fraction(i, j);
+    }
+
     double stable_dt() const override { return std::min(minus_.stable_dt(), plus_.stable_dt()); }
 
     void step(double dt) override {
