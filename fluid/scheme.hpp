@@ -334,7 +334,8 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                 // Faces of this row touch the cells of rows j − 1 and j.
                 int i0 = nx, i1 = 0;
                 for (int r : {j - 1, j})
-                    if (r >= 0 && r < ny && hi_[r] > lo_[r]) i0 = std::min(i0, lo_[r]), i1 = std::max(i1, hi_[r]);
+                    if (r >= 0 && r < ny && hi_[r] > lo_[r])
+                        i0 = std::min(i0, lo_[r]), i1 = std::max(i1, hi_[r]);
                 for (int i = i0; i < i1; ++i) {
                     if (!active(i, j - 1) && !active(i, j)) continue;
                     const double* cb = cell(U, i, j - 1);
@@ -442,10 +443,13 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     // Indicator + WENO + positivity on Uvec; throws SolverFailure for a cell that cannot be made admissible.
     void limit(std::vector<double>& Uvec, double t, const char* stage) {
         double* U = Uvec.data();
-        if (K > 0 && set_.limiter == Limiter::Weno && set_.indicator != Indicator::None) {
+        if (K > 0 && set_.limiter != Limiter::None && set_.indicator != Indicator::None) {
             fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
             mark_troubled(U);
-            weno(U);
+            if (set_.limiter == Limiter::Weno)
+                weno(U);
+            else
+                minmod(U);
         }
         positivity(U, t, stage); // always: it also detects inadmissible cell averages
     }
@@ -600,6 +604,56 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                     for (int v = 0; v < NV; ++v)
                         for (int l = 1; l < NB; ++l)
                             o[v * NB + l] *= theta;
+            }
+#pragma omp parallel for schedule(static) if (D == 2)
+        for (int j = 0; j < ny; ++j)
+            for (int i = lo_[j]; i < hi_[j]; ++i)
+                if (troubled_flag_[mesh_.index(i, j)]) std::copy_n(cell(out, i, j), NC, cell(U, i, j));
+    }
+
+    // Troubled cells become linear: in the characteristic variables of each direction the slope is the
+    // minmod of the own slope and the differences of the neighbouring averages (Cockburn and Shu 1989);
+    // the quadratic and mixed modes are dropped.
+    void minmod(double* U) {
+        const int ny = mesh_.ny;
+        double* out = rhs_.data();
+#pragma omp parallel for schedule(dynamic, 16) if (D == 2)
+        for (int j = 0; j < ny; ++j)
+            for (int i = lo_[j]; i < hi_[j]; ++i) {
+                if (!troubled_flag_[mesh_.index(i, j)]) continue;
+                const double* c = cell(U, i, j);
+                double q[NV];
+                for (int v = 0; v < NV; ++v)
+                    q[v] = c[v * NB];
+                const Primitive w = primitive(q);
+                const double a = eos_.sound_speed(w.rho, w.p);
+                const double vel[2] = {w.u, w.v};
+                double* o = cell(out, i, j);
+                std::fill(o, o + NC, 0.0);
+                for (int v = 0; v < NV; ++v)
+                    o[v * NB] = c[v * NB];
+                for (int dir = 0; dir < D; ++dir) {
+                    const int l = dir == 0 ? 1 : 2; // basis function ξ or η
+                    const double* lo = dir == 0 ? cell(U, i - 1, j) : cell(U, i, j - 1);
+                    const double* hi = dir == 0 ? cell(U, i + 1, j) : cell(U, i, j + 1);
+                    const Eigenvectors<NV> ev = eigenvectors(dir, w.rho, vel, a);
+                    double lim[NV];
+                    for (int m = 0; m < NV; ++m) {
+                        double s = 0, f = 0, b = 0;
+                        for (int v = 0; v < NV; ++v) {
+                            s += ev.L[m][v] * c[v * NB + l];
+                            f += ev.L[m][v] * (hi[v * NB] - c[v * NB]);
+                            b += ev.L[m][v] * (c[v * NB] - lo[v * NB]);
+                        }
+                        lim[m] = minmod3(s, f, b);
+                    }
+                    for (int v = 0; v < NV; ++v) {
+                        double x = 0;
+                        for (int m = 0; m < NV; ++m)
+                            x += ev.R[v][m] * lim[m];
+                        o[v * NB + l] = x;
+                    }
+                }
             }
 #pragma omp parallel for schedule(static) if (D == 2)
         for (int j = 0; j < ny; ++j)

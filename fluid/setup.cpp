@@ -30,6 +30,8 @@ const std::vector<NamedOption>& indicator_names() {
 const std::vector<NamedOption>& limiter_names() {
     static const std::vector<NamedOption> names = {
         {"weno", "simple WENO limiter of Zhong and Shu (2013) in characteristic variables"},
+        {"minmod", "troubled cells become linear, slope limited by minmod in characteristic variables "
+                   "(Cockburn and Shu 1989)"},
         {"none", "no limiting of troubled cells"},
     };
     return names;
@@ -551,7 +553,9 @@ std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
                   : n.indicator() == "all" ? Indicator::All
                                            : Indicator::None;
     s.tvb_m = n.tvb_m();
-    s.limiter = n.limiter() == "weno" ? Limiter::Weno : Limiter::None;
+    s.limiter = n.limiter() == "weno"     ? Limiter::Weno
+                : n.limiter() == "minmod" ? Limiter::Minmod
+                                          : Limiter::None;
     s.weno_neighbour_weight = n.weno_neighbour_weight();
     s.weno_epsilon = n.weno_epsilon();
     s.positivity = n.positivity();

@@ -25,7 +25,7 @@ struct Boundary {
 };
 
 enum class Indicator { Tvb, All, None };
-enum class Limiter { Weno, None };
+enum class Limiter { Weno, Minmod, None };
 
 struct Settings {
     int degree = 2;
