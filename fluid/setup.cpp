@@ -471,7 +471,7 @@ std::unique_ptr<FluidSolver> build_two(const cfg::Case& c, const Mesh& mesh, con
     std::string minus;
     for (const auto& r : c.regions())
         if (r.material() != plus && minus.empty()) minus = r.material();
-    auto solver = std::make_unique<TwoFluid<D, K, EosM, EosP>>(mesh, em, ep, s, bc, is);
+    auto solver = std::make_unique<TwoFluid<D, K, EosM, EosP>>(mesh, em, ep, s, bc, is, minus, plus);
     solver->initialise(
         [&](double x, double y) {
             double phi = 1e300;

@@ -15,8 +15,10 @@
 #include "level_set.hpp"
 #include "scheme.hpp"
 
+#include <array>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <sstream>
 #include <vector>
 
@@ -49,8 +51,9 @@ template <class Eos> RiemannMaterial riemann_material(const Eos& eos) {
 template <int D, int K, class EosM, class EosP> class TwoFluid final : public FluidSolver {
   public:
     TwoFluid(const Mesh& mesh, const EosM& eos_m, const EosP& eos_p, const Settings& s,
-             const std::array<Boundary, 4>& bc, const InterfaceSettings& is)
-        : mesh_(mesh), set_(is), minus_(mesh, eos_m, s, bc), plus_(mesh, eos_p, s, bc), phi_(mesh),
+             const std::array<Boundary, 4>& bc, const InterfaceSettings& is, const std::string& minus_name,
+             const std::string& plus_name)
+        : mesh_(mesh), set_(is), names_{minus_name, plus_name}, minus_(mesh, eos_m, s, bc), plus_(mesh, eos_p, s, bc), phi_(mesh),
           mat_m_(riemann_material(eos_m)), mat_p_(riemann_material(eos_p)) {
         active_m_.assign(mesh_.padded_cells(), 0);
         active_p_.assign(mesh_.padded_cells(), 0);
@@ -96,12 +99,16 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
 
     void step(double dt) override {
         treat_interface();
-        minus_.step(dt);
+        try {
+            minus_.step(dt);
+        } catch (const SolverFailure& f) {
+            throw SolverFailure(names_[0] + ": " + f.what());
+        }
         try {
             plus_.step(dt);
-        } catch (const SolverFailure&) {
+        } catch (const SolverFailure& f) {
             minus_.revert_step();
-            throw;
+            throw SolverFailure(names_[1] + ": " + f.what());
         }
         phi_.advect(wx_, wy_, dt);
         if (set_.reinit_every > 0 && minus_.steps() % set_.reinit_every == 0)
@@ -161,6 +168,7 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
   private:
     Mesh mesh_;
     InterfaceSettings set_;
+    std::array<std::string, 2> names_; // materials of the minus and plus fluid, for messages
     Scheme<D, K, EosM> minus_;
     Scheme<D, K, EosP> plus_;
     LevelSet phi_;
