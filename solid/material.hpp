@@ -1,0 +1,81 @@
+// Material laws of the structure (physics.md §6): one stress update per integration point, small strain,
+// rate form. Each law is one unit behind this interface.
+// Voigt order: xx, yy, zz, xy, yz, zx; strain increments carry engineering shear (γ = 2ε), stresses the
+// tensor components. Plane strain and axisymmetric elements use the same six components.
+#pragma once
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace undex::solid {
+
+using Voigt = std::array<double, 6>;
+
+// History of one integration point.
+struct PointState {
+    Voigt stress{};          // Cauchy stress
+    Voigt strain{};          // total strain (engineering shear)
+    Voigt plastic_strain{};  // plastic strain (engineering shear)
+    double peeq = 0;         // equivalent plastic strain (ε̂_p for the foam laws)
+    double peeq_rate = 0;    // its rate over the last increment
+    double plastic_work = 0; // plastic work dissipated per unit volume
+};
+
+// A constant a law cannot do without, or a value outside its range.
+struct MaterialError : std::invalid_argument {
+    using std::invalid_argument::invalid_argument;
+};
+
+class MaterialLaw {
+  public:
+    virtual ~MaterialLaw() = default;
+    virtual std::string name() const = 0;
+    virtual double density() const = 0;
+    // Modulus of the fastest dilatational wave, λ̂ + 2μ̂ of physics.md §6 (for uniaxial laws the largest
+    // uniaxial modulus), so that the stable time step is L_e / sqrt(wave_modulus / ρ).
+    virtual double wave_modulus() const = 0;
+    // Advances the point by the strain increment de over dt > 0.
+    void update(const Voigt& de, double dt, PointState& s) const {
+        for (int i = 0; i < 6; ++i)
+            s.strain[i] += de[i];
+        advance(de, dt, s);
+    }
+
+  protected:
+    // The law's own update: s.strain already includes de.
+    virtual void advance(const Voigt& de, double dt, PointState& s) const = 0;
+};
+
+// Isotropic elasticity helpers.
+struct Isotropic {
+    double E, nu, G, K, lambda;
+    Isotropic(double E_, double nu_)
+        : E(E_), nu(nu_), G(E_ / (2 * (1 + nu_))), K(E_ / (3 * (1 - 2 * nu_))),
+          lambda(E_ * nu_ / ((1 + nu_) * (1 - 2 * nu_))) {}
+    // σ += C : de (engineering shear in de).
+    void add(const Voigt& de, Voigt& s) const {
+        const double tr = de[0] + de[1] + de[2];
+        for (int i = 0; i < 3; ++i)
+            s[i] += lambda * tr + 2 * G * de[i];
+        for (int i = 3; i < 6; ++i)
+            s[i] += G * de[i];
+    }
+    double wave_modulus() const { return lambda + 2 * G; }
+};
+
+inline double mean_stress(const Voigt& s) {
+    return (s[0] + s[1] + s[2]) / 3;
+}
+// Von Mises equivalent stress sqrt(3/2 s:s).
+inline double von_mises(const Voigt& s) {
+    const double m = mean_stress(s);
+    const double a = s[0] - m, b = s[1] - m, c = s[2] - m;
+    return std::sqrt(1.5 * (a * a + b * b + c * c) + 3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
+}
+
+inline void require(bool ok, const std::string& what) {
+    if (!ok) throw MaterialError(what);
+}
+
+} // namespace undex::solid
