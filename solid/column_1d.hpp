@@ -1,0 +1,227 @@
+// Layered 1D column of two-node elements through the thickness of a plate or sandwich (physics.md §6):
+// lumped mass, central-difference integration, per unit area. Each layer has its own material law, thickness
+// and element count; layers are perfectly bonded (they share their interface node). Node 0 is the front
+// (wet) face at x = 0, the last node the back face.
+// Kinematics: uniaxial stress (a bar: the lateral stresses are held at zero by iterating the lateral
+// strains, so σ = E ε for an elastic layer) or uniaxial strain (a laterally confined plate: σ = (λ + 2μ) ε).
+// Laws that are uniaxial by construction (Foam1D) see only the axial strain in both cases.
+// Strain increments are logarithmic: Δε = Δl / l over the mean length of the step, so large foam
+// compressions are measured correctly.
+#pragma once
+#include "material.hpp"
+
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+namespace undex::solid {
+
+// A state the method cannot hold (an inverted element).
+struct StructureFailure : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+enum class Kinematics1D { UniaxialStress, UniaxialStrain };
+enum class Face1D { Free, Fixed };
+
+struct Layer1D {
+    std::shared_ptr<const MaterialLaw> law;
+    double thickness = 0;
+    int elements = 0;
+    bool uniaxial_law = false; // the law uses the xx components only
+};
+
+// Energies per unit area, accumulated over the run.
+struct Energies1D {
+    double kinetic = 0, internal = 0, plastic = 0, external = 0;
+    double elastic() const { return internal - plastic; }
+    double balance_error() const { return kinetic + internal - external; }
+};
+
+class Column1D {
+  public:
+    Column1D(const std::vector<Layer1D>& layers, Kinematics1D kin) : kin_(kin) {
+        require(!layers.empty(), "a column needs at least one layer");
+        x_.push_back(0.0);
+        for (size_t l = 0; l < layers.size(); ++l) {
+            const auto& L = layers[l];
+            const std::string where = "layer " + std::to_string(l) + ": ";
+            if (!L.law) throw MaterialError(where + "no material law");
+            if (!(L.thickness > 0)) throw MaterialError(where + "thickness must be positive");
+            if (L.elements < 1)
+                throw MaterialError(where + "needs at least one element (a layer thinner than one element)");
+            const double h = L.thickness / L.elements;
+            for (int e = 0; e < L.elements; ++e) {
+                elements_.push_back({L.law.get(), L.uniaxial_law, h, static_cast<int>(l)});
+                x_.push_back(x_.back() + h);
+            }
+            laws_.push_back(L.law);
+        }
+        const size_t n = x_.size();
+        mass_.assign(n, 0.0);
+        for (size_t e = 0; e < elements_.size(); ++e) {
+            const double m = elements_[e].law->density() * elements_[e].length0 / 2;
+            mass_[e] += m;
+            mass_[e + 1] += m;
+        }
+        u_.assign(n, 0.0);
+        v_.assign(n, 0.0);
+        a_.assign(n, 0.0);
+        force_.assign(n, 0.0);
+        points_.assign(elements_.size(), PointState{});
+    }
+
+    size_t nodes() const { return x_.size(); }
+    size_t element_count() const { return elements_.size(); }
+    double node_x(size_t i) const { return x_[i]; }
+    double element_x(size_t e) const { return 0.5 * (x_[e] + x_[e + 1]); }
+    double displacement(size_t i) const { return u_[i]; }
+    double velocity(size_t i) const { return v_[i]; } // at the last half step
+    double acceleration(size_t i) const { return a_[i]; }
+    const PointState& point(size_t e) const { return points_[e]; }
+    double time() const { return time_; }
+    long steps() const { return steps_; }
+    const Energies1D& energies() const { return en_; }
+
+    void set_face(int side, Face1D f) { face_[side] = f; }
+    // Pressure p(t) on a face (side 0 front, 1 back), pushing into the column.
+    void set_pressure(int side, std::function<double(double)> p) { pressure_[side] = std::move(p); }
+    // Initial velocity of every node (before the first step).
+    void set_velocity(const std::function<double(double)>& v0) {
+        for (size_t i = 0; i < x_.size(); ++i)
+            v_[i] = v0(x_[i]);
+        en_.kinetic = kinetic();
+    }
+
+    // Largest stable step: min over elements of l / sqrt(M/ρ) (physics.md §6), without safety factor.
+    double stable_dt() const {
+        double dt = 1e300;
+        for (size_t e = 0; e < elements_.size(); ++e) {
+            const auto& el = elements_[e];
+            const double l = x_[e + 1] + u_[e + 1] - x_[e] - u_[e];
+            dt = std::min(dt, l / std::sqrt(el.law->wave_modulus() / el.law->density()));
+        }
+        return dt;
+    }
+
+    // One central-difference step: v^{n+1/2} = v^{n−1/2} + Δt a^n (half a step at the start), then
+    // u^{n+1} = u^n + Δt v^{n+1/2}, then the forces and accelerations at n+1.
+    void step(double dt) {
+        if (steps_ == 0) forces(time_, u_); // a^0
+        const size_t n = x_.size();
+        const double h = steps_ == 0 ? 0.5 * dt : 0.5 * (dt + last_dt_);
+        std::vector<double> du(n);
+        for (size_t i = 0; i < n; ++i) {
+            v_[i] += h * a_[i];
+            if ((i == 0 && face_[0] == Face1D::Fixed) || (i + 1 == n && face_[1] == Face1D::Fixed)) v_[i] = 0;
+            du[i] = dt * v_[i];
+        }
+        // External work of the face pressures over the step (trapezoidal in time).
+        for (int side = 0; side < 2; ++side) {
+            if (!pressure_[side]) continue;
+            const size_t i = side == 0 ? 0 : n - 1;
+            const double sign = side == 0 ? 1.0 : -1.0;
+            en_.external += 0.5 * (pressure_[side](time_) + pressure_[side](time_ + dt)) * sign * du[i];
+        }
+        // Element updates: strain increments over the mean length, stress, internal and plastic work.
+        for (size_t e = 0; e < elements_.size(); ++e) {
+            const auto& el = elements_[e];
+            const double l0 = x_[e + 1] + u_[e + 1] - x_[e] - u_[e];
+            const double l1 = l0 + du[e + 1] - du[e];
+            if (!(l1 > 0)) {
+                std::ostringstream s;
+                s << "element " << e << " (layer " << el.layer << ", x = " << element_x(e)
+                  << " m) inverted at t = " << time_ + dt << " s in step " << steps_ + 1;
+                throw StructureFailure(s.str());
+            }
+            const double deps = (du[e + 1] - du[e]) / (0.5 * (l0 + l1));
+            PointState& p = points_[e];
+            const double sigma0 = p.stress[0], wp0 = p.plastic_work;
+            update_point(el, deps, dt, p);
+            const double lm = 0.5 * (l0 + l1);
+            en_.internal += 0.5 * (sigma0 + p.stress[0]) * deps * lm;
+            en_.plastic += (p.plastic_work - wp0) * lm;
+        }
+        for (size_t i = 0; i < n; ++i)
+            u_[i] += du[i];
+        time_ += dt;
+        last_dt_ = dt;
+        ++steps_;
+        forces(time_, u_);
+        en_.kinetic = kinetic_at_step(dt);
+    }
+
+  private:
+    struct Element {
+        const MaterialLaw* law;
+        bool uniaxial_law;
+        double length0;
+        int layer;
+    };
+    Kinematics1D kin_;
+    std::vector<std::shared_ptr<const MaterialLaw>> laws_;
+    std::vector<Element> elements_;
+    std::vector<double> x_, mass_, u_, v_, a_, force_;
+    std::vector<PointState> points_;
+    Face1D face_[2] = {Face1D::Free, Face1D::Free};
+    std::function<double(double)> pressure_[2];
+    Energies1D en_;
+    double time_ = 0, last_dt_ = 0;
+    long steps_ = 0;
+
+    void update_point(const Element& el, double deps, double dt, PointState& p) const {
+        if (el.uniaxial_law || kin_ == Kinematics1D::UniaxialStrain) {
+            el.law->update({deps, 0, 0, 0, 0, 0}, dt, p);
+            return;
+        }
+        // Uniaxial stress: lateral increments (yy = zz) by secant iteration so that σ_yy = 0.
+        auto lateral = [&](double dl) {
+            PointState t = p;
+            el.law->update({deps, dl, dl, 0, 0, 0}, dt, t);
+            return t.stress[1];
+        };
+        double a = 0, fa = lateral(a), b = -0.3 * deps, fb = lateral(b);
+        const double scale = std::abs(p.stress[0]) + 1.0;
+        for (int it = 0; it < 50 && std::abs(fb) > 1e-10 * scale && fb != fa; ++it) {
+            const double c = b - fb * (b - a) / (fb - fa);
+            a = b, fa = fb, b = c, fb = lateral(b);
+        }
+        el.law->update({deps, b, b, 0, 0, 0}, dt, p);
+    }
+
+    void forces(double t, const std::vector<double>&) {
+        const size_t n = x_.size();
+        std::fill(force_.begin(), force_.end(), 0.0);
+        for (size_t e = 0; e < elements_.size(); ++e) {
+            const double s = points_[e].stress[0]; // tension pulls the nodes together
+            force_[e] += s;
+            force_[e + 1] -= s;
+        }
+        if (pressure_[0]) force_[0] += pressure_[0](t);
+        if (pressure_[1]) force_[n - 1] -= pressure_[1](t);
+        for (size_t i = 0; i < n; ++i)
+            a_[i] = force_[i] / mass_[i];
+        if (face_[0] == Face1D::Fixed) a_[0] = 0;
+        if (face_[1] == Face1D::Fixed) a_[n - 1] = 0;
+    }
+
+    double kinetic() const {
+        double k = 0;
+        for (size_t i = 0; i < x_.size(); ++i)
+            k += 0.5 * mass_[i] * v_[i] * v_[i];
+        return k;
+    }
+    // Kinetic energy at the integer step from the half-step velocity and the new acceleration.
+    double kinetic_at_step(double dt) const {
+        double k = 0;
+        for (size_t i = 0; i < x_.size(); ++i) {
+            const double v = v_[i] + 0.5 * dt * a_[i];
+            k += 0.5 * mass_[i] * v * v;
+        }
+        return k;
+    }
+};
+
+} // namespace undex::solid
