@@ -8,6 +8,7 @@
 #include "case_file.hpp"
 #include "output.hpp"
 #include "setup.hpp"
+#include "structure_setup.hpp"
 
 #include <unistd.h>
 
@@ -23,13 +24,12 @@
 
 namespace {
 
-const char* usage =
-    "usage:\n"
-    "  undex check CASE [--set key=value]...\n"
-    "  undex run CASE [--set key=value]...\n"
-    "  undex sample DIR --time T --line \"x0,y0 x1,y1\" --points N [--fields rho,u,v,p]\n"
-    "  undex gauges DIR [--name NAME]\n"
-    "  undex options\n";
+const char* usage = "usage:\n"
+                    "  undex check CASE [--set key=value]...\n"
+                    "  undex run CASE [--set key=value]...\n"
+                    "  undex sample DIR --time T --line \"x0,y0 x1,y1\" --points N [--fields rho,u,v,p]\n"
+                    "  undex gauges DIR [--name NAME]\n"
+                    "  undex options\n";
 
 struct Args {
     std::vector<std::string> positional;
@@ -44,11 +44,16 @@ Args parse(int argc, char** argv, int first) {
         if (s.rfind("--", 0) == 0) {
             std::string key = s.substr(2), value;
             const auto eq = key.find('=');
-            if (eq != std::string::npos) value = key.substr(eq + 1), key = key.substr(0, eq);
-            else if (k + 1 < argc) value = argv[++k];
-            else throw std::invalid_argument("option --" + key + " needs a value");
-            if (key == "set") a.overrides.push_back(value);
-            else a.options[key] = value;
+            if (eq != std::string::npos)
+                value = key.substr(eq + 1), key = key.substr(0, eq);
+            else if (k + 1 < argc)
+                value = argv[++k];
+            else
+                throw std::invalid_argument("option --" + key + " needs a value");
+            if (key == "set")
+                a.overrides.push_back(value);
+            else
+                a.options[key] = value;
         } else {
             a.positional.push_back(s);
         }
@@ -61,11 +66,34 @@ std::string h5_of(const std::string& dir) {
     return std::filesystem::is_directory(p) ? (p / "fluid.h5").string() : dir;
 }
 
+// Which parts the case holds; each is checked in full. A case with neither is an error.
+struct Parts {
+    bool fluid, structure;
+};
+Parts check_parts(const undex::CaseFile& c) {
+    const Parts p{undex::solid::has_fluid(c), undex::solid::has_structure(c)};
+    if (!p.fluid && !p.structure)
+        c.fail("regions", "the case models nothing: give fluid regions or a structure");
+    if (p.fluid) undex::fluid::validate(c);
+    if (p.structure) undex::solid::make_structure(c);
+    return p;
+}
+
 int check(const Args& a) {
     if (a.positional.size() != 1) throw std::invalid_argument("check needs one CASE");
     const auto c = undex::CaseFile::load(a.positional[0], a.overrides);
-    undex::fluid::validate(c);
+    const Parts parts = check_parts(c);
     const auto& m = c.get();
+    if (parts.structure) {
+        const auto s = undex::solid::make_structure(c);
+        std::cout << a.positional[0] << ": ok: structure of " << m.structure().layers_size() << " layer(s), "
+                  << s.column->element_count() << " elements, time step " << s.dt << " s";
+        if (!parts.fluid) {
+            std::cout << ", end time " << m.end_time() << " s\n";
+            return 0;
+        }
+        std::cout << "; ";
+    }
     const auto p = undex::fluid::plan(c);
     std::cout << a.positional[0] << ": ok: " << undex::config::Geometry_Name(m.geometry()) << ", "
               << m.domain().cells_x();
@@ -79,14 +107,20 @@ int run(const Args& a, char** argv) {
     if (a.positional.size() != 1) throw std::invalid_argument("run needs one CASE");
     // Check the case here so that a bad case is reported before any process starts.
     const auto c = undex::CaseFile::load(a.positional[0], a.overrides);
-    undex::fluid::validate(c);
+    const Parts parts = check_parts(c);
+    if (parts.structure)
+        throw std::runtime_error(
+            a.positional[0] + ": the structure is checked, but this version cannot run it yet "
+                              "(undex-solid and the coupler are still to come); `undex check` validates it");
     // A fluid-only case needs only the fluid process.
     const auto self = std::filesystem::read_symlink("/proc/self/exe");
     const std::string fluid = (self.parent_path() / "undex-fluid").string();
     std::vector<std::string> args = {fluid, a.positional[0]};
-    for (const auto& o : a.overrides) args.insert(args.end(), {"--set", o});
+    for (const auto& o : a.overrides)
+        args.insert(args.end(), {"--set", o});
     std::vector<char*> cargs;
-    for (auto& s : args) cargs.push_back(s.data());
+    for (auto& s : args)
+        cargs.push_back(s.data());
     cargs.push_back(nullptr);
     std::cout.flush();
     execv(fluid.c_str(), cargs.data());
@@ -99,7 +133,8 @@ std::vector<double> parse_point(const std::string& s) {
     std::vector<double> v;
     std::stringstream ss(s);
     std::string part;
-    while (std::getline(ss, part, ',')) v.push_back(std::stod(part));
+    while (std::getline(ss, part, ','))
+        v.push_back(std::stod(part));
     if (v.size() == 1) v.push_back(0.0);
     if (v.size() != 2) throw std::invalid_argument("a point is x,y (got '" + s + "')");
     return v;
@@ -133,11 +168,14 @@ int sample(const Args& a) {
         std::stringstream fs(a.options.at("fields"));
         std::string f;
         while (std::getline(fs, f, ','))
-            if (f == "rho" || f == "u" || f == "v" || f == "p") fields.push_back(f);
-            else throw std::invalid_argument("unknown field '" + f + "' (fields: rho, u, v, p)");
+            if (f == "rho" || f == "u" || f == "v" || f == "p")
+                fields.push_back(f);
+            else
+                throw std::invalid_argument("unknown field '" + f + "' (fields: rho, u, v, p)");
     }
     std::printf("# time = %.9g s\nx,y", run.times[best]);
-    for (const auto& f : fields) std::printf(",%s", f.c_str());
+    for (const auto& f : fields)
+        std::printf(",%s", f.c_str());
     std::printf("\n");
     for (int k = 0; k < n; ++k) {
         const double s = n == 1 ? 0.0 : double(k) / (n - 1);
@@ -159,22 +197,26 @@ int gauges(const Args& a) {
     if (a.options.count("name")) {
         names = {a.options.at("name")};
         bool found = false;
-        for (const auto& g : run.gauge_names) found = found || g == names[0];
+        for (const auto& g : run.gauge_names)
+            found = found || g == names[0];
         if (!found) throw std::runtime_error("no gauge named '" + names[0] + "' in " + h5);
     }
     if (names.empty()) throw std::runtime_error(h5 + ": the case has no gauges");
     std::vector<std::vector<std::vector<double>>> cols;
-    for (const auto& n : names) cols.push_back(undex::fluid::read_gauge(h5, n));
+    for (const auto& n : names)
+        cols.push_back(undex::fluid::read_gauge(h5, n));
     std::printf("t");
     const bool many = names.size() > 1;
     for (const auto& n : names)
-        for (const char* f : {"rho", "u", "v", "p"}) std::printf(many ? ",%s.%s" : ",%s", many ? n.c_str() : f, f);
+        for (const char* f : {"rho", "u", "v", "p"})
+            std::printf(many ? ",%s.%s" : ",%s", many ? n.c_str() : f, f);
     std::printf("\n");
     const size_t rows = cols[0][0].size();
     for (size_t r = 0; r < rows; ++r) {
         std::printf("%.12g", cols[0][0][r]);
         for (const auto& g : cols)
-            for (int f = 1; f < 5; ++f) std::printf(",%.12g", r < g[f].size() ? g[f][r] : NAN);
+            for (int f = 1; f < 5; ++f)
+                std::printf(",%.12g", r < g[f].size() ? g[f][r] : NAN);
         std::printf("\n");
     }
     return 0;
@@ -182,13 +224,19 @@ int gauges(const Args& a) {
 
 int options() {
     std::cout << "numerics.indicator:\n";
-    for (const auto& n : undex::fluid::indicator_names()) std::cout << "  " << n.name << "  " << n.doc << "\n";
+    for (const auto& n : undex::fluid::indicator_names())
+        std::cout << "  " << n.name << "  " << n.doc << "\n";
     std::cout << "numerics.limiter:\n";
-    for (const auto& n : undex::fluid::limiter_names()) std::cout << "  " << n.name << "  " << n.doc << "\n";
+    for (const auto& n : undex::fluid::limiter_names())
+        std::cout << "  " << n.name << "  " << n.doc << "\n";
     std::cout << "interface.method:\n";
-    for (const auto& n : undex::fluid::ghost_method_names()) std::cout << "  " << n.name << "  " << n.doc << "\n";
+    for (const auto& n : undex::fluid::ghost_method_names())
+        std::cout << "  " << n.name << "  " << n.doc << "\n";
     std::cout << "interface.riemann:\n";
-    for (const auto& n : undex::fluid::interface_riemann_names()) std::cout << "  " << n.name << "  " << n.doc << "\n";
+    for (const auto& n : undex::fluid::interface_riemann_names())
+        std::cout << "  " << n.name << "  " << n.doc << "\n";
+    std::cout << "structure.kinematics:\n";
+    for (const auto& n : undex::solid::kinematics_names()) std::cout << "  " << n.first << "  " << n.second << "\n";
     std::cout << "geometry: PLANAR_1D CYLINDRICAL_1D SPHERICAL_1D PLANAR_2D AXISYMMETRIC_2D\n"
               << "boundary type: TRANSMISSIVE WALL SYMMETRY PRESSURE PERIODIC\n"
               << "material models: stiffened_gas { gamma p_inf }, tait { gamma B A rho0 as_stiffened_gas }\n"

@@ -149,6 +149,8 @@ void validate(const CaseFile& cf) {
     const cfg::Case& c = cf.get();
     if (c.geometry() == cfg::GEOMETRY_UNSET) cf.fail("geometry", "geometry is not set");
     const bool two_d = is_2d(c.geometry());
+    if (!c.has_domain()) cf.fail("domain", "a fluid needs a domain (x_min, x_max, cells_x)");
+    if (!c.has_boundaries()) cf.fail("boundaries", "a fluid needs boundaries (x_min, x_max)");
     const auto& d = c.domain();
     if (!(d.x_max() > d.x_min())) cf.fail("domain.x_max", "x_max must be greater than x_min");
     if (d.cells_x() < 1) cf.fail("domain.cells_x", "needs at least one cell");

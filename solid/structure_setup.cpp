@@ -1,0 +1,188 @@
+#include "structure_setup.hpp"
+
+#include "case.pb.h"
+#include "case_file.hpp"
+#include "material_deshpande_fleck.hpp"
+#include "material_elastic.hpp"
+#include "material_foam_1d.hpp"
+#include "material_johnson_cook.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+namespace undex::solid {
+
+namespace cfg = undex::config;
+
+const std::vector<std::pair<const char*, const char*>>& kinematics_names() {
+    static const std::vector<std::pair<const char*, const char*>> names = {
+        {"uniaxial_stress",
+         "through-thickness elements as a bar: lateral stresses zero (σ = Eε when elastic)"},
+        {"uniaxial_strain", "a laterally confined plate: lateral strains zero (σ = (λ + 2μ)ε when elastic)"},
+    };
+    return names;
+}
+
+bool has_fluid(const CaseFile& cf) {
+    const auto& c = cf.get();
+    return c.regions_size() > 0 || c.has_domain() || c.has_boundaries() || c.materials_size() > 0;
+}
+bool has_structure(const CaseFile& cf) {
+    return cf.get().has_structure();
+}
+
+namespace {
+
+std::string g(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return b;
+}
+
+std::shared_ptr<const MaterialLaw> make_law(const cfg::SolidMaterial& m) {
+    if (m.has_elastic())
+        return std::make_shared<Elastic>(m.elastic().rho(), m.elastic().e(), m.elastic().nu());
+    if (m.has_johnson_cook()) {
+        const auto& j = m.johnson_cook();
+        JohnsonCook::Constants c;
+        c.rho = j.rho(), c.E = j.e(), c.nu = j.nu(), c.A = j.a(), c.B = j.b(), c.n = j.n(), c.C = j.c();
+        c.eps_dot0 = j.eps_dot0();
+        return std::make_shared<JohnsonCook>(c);
+    }
+    if (m.has_deshpande_fleck()) {
+        const auto& d = m.deshpande_fleck();
+        DeshpandeFleck::Constants c;
+        c.rho = d.rho(), c.E = d.e(), c.nu = d.nu(), c.alpha = d.alpha(), c.eta = d.eta();
+        c.eps_p.assign(d.eps_p().begin(), d.eps_p().end());
+        c.sigma_c.assign(d.sigma_c().begin(), d.sigma_c().end());
+        return std::make_shared<DeshpandeFleck>(c);
+    }
+    const auto& f = m.foam_1d();
+    Foam1D::Constants c;
+    c.rho = f.rho(), c.E = f.e(), c.sigma_pl = f.sigma_pl(), c.eta = f.eta(), c.eps_d = f.eps_d(),
+    c.E_lock = f.e_lock();
+    return std::make_shared<Foam1D>(c);
+}
+
+const char* law_field(const cfg::SolidMaterial& m) {
+    return m.has_elastic()           ? "elastic"
+           : m.has_johnson_cook()    ? "johnson_cook"
+           : m.has_deshpande_fleck() ? "deshpande_fleck"
+                                     : "foam_1d";
+}
+
+std::function<double(double)> pressure_history(const cfg::PressureHistory& h) {
+    if (h.table_t_size() > 0) {
+        std::vector<double> t(h.table_t().begin(), h.table_t().end()),
+            p(h.table_p().begin(), h.table_p().end());
+        return [t, p](double time) {
+            if (time <= t.front()) return p.front();
+            if (time >= t.back()) return p.back();
+            const auto k = std::upper_bound(t.begin(), t.end(), time) - t.begin();
+            const double f = (time - t[k - 1]) / (t[k] - t[k - 1]);
+            return (1 - f) * p[k - 1] + f * p[k];
+        };
+    }
+    const double amb = h.p_ambient(), peak = h.p_peak(), theta = h.theta(), t0 = h.t_arrival();
+    return [=](double time) { return time < t0 ? amb : amb + peak * std::exp(-(time - t0) / theta); };
+}
+
+void check_face(const CaseFile& cf, const cfg::SolidFace& f, const std::string& path) {
+    if (f.type() == cfg::SolidFace::TYPE_UNSET) cf.fail(path + ".type", "face type is not set");
+    if (f.type() == cfg::SolidFace::PRESSURE) {
+        if (!f.has_pressure()) cf.fail(path, "a PRESSURE face needs a 'pressure' history");
+        const auto& h = f.pressure();
+        if (h.table_t_size() != h.table_p_size())
+            cf.fail(path + ".pressure.table_p", "table_t and table_p must have the same length");
+        if (h.table_t_size() == 0 && !(h.theta() > 0))
+            cf.fail(path + ".pressure.theta", "decay time theta must be positive");
+    } else if (f.has_pressure()) {
+        cf.fail(path + ".pressure", "a pressure history is only used by PRESSURE faces");
+    }
+}
+
+} // namespace
+
+StructureModel make_structure(const CaseFile& cf) {
+    const auto& c = cf.get();
+    if (!c.has_structure()) cf.fail("structure", "the case has no structure");
+    const auto& st = c.structure();
+    if (c.geometry() != cfg::PLANAR_1D)
+        cf.fail("geometry",
+                "a structure is a 1D layered column (PLANAR_1D) in this version; 2D plates come later");
+    // Materials.
+    std::map<std::string, std::shared_ptr<const MaterialLaw>> laws;
+    for (int m = 0; m < st.materials_size(); ++m) {
+        const auto& mat = st.materials(m);
+        const std::string path = "structure.materials[" + std::to_string(m) + "]";
+        if (laws.count(mat.name())) cf.fail(path + ".name", "material '" + mat.name() + "' is defined twice");
+        if (mat.law_case() == cfg::SolidMaterial::LAW_NOT_SET)
+            cf.fail(path, "material '" + mat.name() +
+                              "' needs a law: elastic, johnson_cook, deshpande_fleck or foam_1d");
+        try {
+            laws[mat.name()] = make_law(mat);
+        } catch (const MaterialError& e) {
+            cf.fail(path + "." + law_field(mat), e.what());
+        }
+    }
+    // Layers.
+    if (st.layers_size() == 0) cf.fail("structure.layers", "a structure needs at least one layer");
+    std::vector<Layer1D> layers;
+    for (int l = 0; l < st.layers_size(); ++l) {
+        const auto& L = st.layers(l);
+        const std::string path = "structure.layers[" + std::to_string(l) + "]";
+        const auto law = laws.find(L.material());
+        if (law == laws.end())
+            cf.fail(path + ".material", "unknown structure material '" + L.material() + "'");
+        if (!(L.element_size() > 0))
+            cf.fail(path + ".element_size",
+                    "element size must be positive (got " + g(L.element_size()) + " m)");
+        if (!(L.thickness() > 0)) cf.fail(path + ".thickness", "thickness must be positive");
+        if (L.thickness() < L.element_size() * (1 - 1e-12))
+            cf.fail(path + ".thickness", "the layer (" + g(L.thickness()) +
+                                             " m) is thinner than one element (" + g(L.element_size()) +
+                                             " m)");
+        Layer1D layer;
+        layer.law = law->second;
+        layer.thickness = L.thickness();
+        layer.elements = std::max(1, static_cast<int>(std::lround(L.thickness() / L.element_size())));
+        layer.uniaxial_law = law->second->name() == "foam_1d";
+        layers.push_back(layer);
+    }
+    check_face(cf, st.front(), "structure.front");
+    check_face(cf, st.back(), "structure.back");
+    bool known = false;
+    for (const auto& k : kinematics_names())
+        known |= st.kinematics() == k.first;
+    if (!known)
+        cf.fail("structure.kinematics",
+                "unknown kinematics '" + st.kinematics() + "'; choose uniaxial_stress or uniaxial_strain");
+    if (!(st.safety() > 0 && st.safety() <= 1))
+        cf.fail("structure.safety", "safety factor must lie in (0, 1]");
+    if (!(c.end_time() > 0)) cf.fail("end_time", "must be positive");
+
+    StructureModel model;
+    model.column = std::make_unique<Column1D>(layers, st.kinematics() == "uniaxial_strain"
+                                                          ? Kinematics1D::UniaxialStrain
+                                                          : Kinematics1D::UniaxialStress);
+    for (int side = 0; side < 2; ++side) {
+        const auto& f = side == 0 ? st.front() : st.back();
+        if (f.type() == cfg::SolidFace::FIXED) model.column->set_face(side, Face1D::Fixed);
+        if (f.type() == cfg::SolidFace::PRESSURE)
+            model.column->set_pressure(side, pressure_history(f.pressure()));
+    }
+    const double stable = model.column->stable_dt();
+    model.dt = st.safety() * stable;
+    if (st.has_dt()) {
+        if (!(st.dt() > 0)) cf.fail("structure.dt", "time step must be positive");
+        if (st.dt() > stable)
+            cf.fail("structure.dt", "time step " + g(st.dt()) + " s exceeds the stable one, " + g(stable) +
+                                        " s (min L_e / c_e)");
+        model.dt = st.dt();
+    }
+    return model;
+}
+
+} // namespace undex::solid

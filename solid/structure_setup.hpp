@@ -1,0 +1,32 @@
+// From a case file to a structure model: the whole structure part of the case is checked first.
+#pragma once
+#include "column_1d.hpp"
+
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace undex {
+class CaseFile;
+}
+
+namespace undex::solid {
+
+// Whether the case holds a fluid (regions, domain or fluid materials) and whether it holds a structure.
+bool has_fluid(const CaseFile& c);
+bool has_structure(const CaseFile& c);
+
+struct StructureModel {
+    std::unique_ptr<Column1D> column;
+    double dt = 0; // the time step: the forced one, or safety × the stable one
+};
+
+// Checks every structure part of the case and builds the column; throws CaseError naming the field and
+// line (a material without a required constant, an element of zero or negative size, a layer thinner than
+// one element, a forced time step above the stable one, ...).
+StructureModel make_structure(const CaseFile& c);
+
+// Names accepted by structure.kinematics.
+const std::vector<std::pair<const char*, const char*>>& kinematics_names();
+
+} // namespace undex::solid

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# Structure parts of a case are checked in full before anything runs (issue "Structure solver", item 5):
+# each bad input gives one line "undex: error: FILE:LINE:COL: FIELD: message", exit status 1, and nothing
+# is written. A valid structure passes `check`; `run` refuses it with a clear message until undex-solid
+# exists.
+#   usage: bad_structures.sh UNDEX_BINARY
+set -u
+UNDEX=$1
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+passed=0
+failed=0
+
+# The valid base case: the sandwich of case 4.3 (lines: 5 steel, 6 foam, 7-9 layers, 10 front, 11 back).
+cat > "$TMP/base.in" <<'CASE'
+# minimal valid structure: the sandwich of case 4.3 under a pressure pulse
+name: "sandwich"
+geometry: PLANAR_1D
+structure {
+  materials { name: "steel" elastic { rho: 8000 E: 210e9 nu: 0.3 } }
+  materials { name: "foam" foam_1d { rho: 236 E: 1e9 sigma_pl: 1.5e6 eta: 100 eps_d: 0.8 E_lock: 2e11 } }
+  layers { material: "steel" thickness: 0.012 element_size: 0.002 }
+  layers { material: "foam" thickness: 0.025 element_size: 0.000833333333333 }
+  layers { material: "steel" thickness: 0.012 element_size: 0.002 }
+  front { type: PRESSURE pressure { p_ambient: 0 p_peak: 1e7 theta: 2.4e-4 } }
+  back { type: FREE }
+}
+end_time: 1e-3
+output { directory: "@OUT@" }
+CASE
+
+# bad NAME SED LINE FIELD: check must fail naming FILE:LINE: and FIELD, exit 1, one stderr line, no output.
+bad() {
+    local name=$1 expr=$2 line=$3 field=$4 f="$TMP/$1.case" out="$TMP/out-$1"
+    sed -e "$expr" -e "s|@OUT@|$out|" "$TMP/base.in" > "$f"
+    "$UNDEX" check "$f" > /dev/null 2> "$TMP/err"
+    local rc=$? problems=""
+    [ $rc -eq 1 ] || problems+=" exit $rc;"
+    [ "$(wc -l < "$TMP/err")" -eq 1 ] || problems+=" not one stderr line;"
+    grep -qF "$f:$line:" "$TMP/err" || problems+=" no '$f:$line:';"
+    grep -qF "$field" "$TMP/err" || problems+=" no '$field';"
+    [ ! -e "$out" ] || problems+=" $out written;"
+    if [ -z "$problems" ]; then echo "ok: $name: $(cat "$TMP/err")"; passed=$((passed + 1));
+    else echo "FAIL: $name:$problems $(cat "$TMP/err")"; failed=$((failed + 1)); fi
+}
+
+sed -e "s|@OUT@|$TMP/out-valid|" "$TMP/base.in" > "$TMP/valid.case"
+if "$UNDEX" check "$TMP/valid.case" | grep -q "ok: structure of 3 layer(s), 42 elements"; then
+    echo "ok: valid structure"; passed=$((passed + 1))
+else echo "FAIL: valid structure"; failed=$((failed + 1)); fi
+"$UNDEX" run "$TMP/valid.case" > /dev/null 2> "$TMP/err"
+if [ $? -eq 1 ] && grep -q "cannot run it yet" "$TMP/err" && [ ! -e "$TMP/out-valid" ]; then
+    echo "ok: run refuses a structure clearly"; passed=$((passed + 1))
+else echo "FAIL: run of a structure: $(cat "$TMP/err")"; failed=$((failed + 1)); fi
+
+bad missing-constant 's/ E: 210e9//' 5 'structure.materials[0].elastic.E'
+bad constant-out-of-range 's/nu: 0.3/nu: 0.6/' 5 'structure.materials[0].elastic'
+bad missing-lock-modulus 's/ E_lock: 2e11//' 6 'structure.materials[1].foam_1d.E_lock'
+bad zero-element '0,/element_size: 0.002/s//element_size: 0/' 7 'structure.layers[0].element_size'
+bad negative-element '0,/element_size: 0.002/s//element_size: -0.002/' 7 'structure.layers[0].element_size'
+bad layer-thinner-than-element '0,/element_size: 0.002/s//element_size: 0.02/' 7 'structure.layers[0].thickness'
+bad unknown-material 's/material: "foam"/material: "cork"/' 8 'structure.layers[1].material'
+bad dt-above-stable 's/back { type: FREE }/back { type: FREE } dt: 1e-6/' 11 'structure.dt'
+bad pressure-without-history 's/front { type: PRESSURE pressure {[^}]*} }/front { type: PRESSURE }/' 10 'structure.front'
+bad unknown-kinematics 's/back { type: FREE }/back { type: FREE } kinematics: "bent"/' 11 'structure.kinematics'
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
