@@ -108,13 +108,12 @@ int run(const Args& a, char** argv) {
     // Check the case here so that a bad case is reported before any process starts.
     const auto c = undex::CaseFile::load(a.positional[0], a.overrides);
     const Parts parts = check_parts(c);
-    if (parts.structure)
-        throw std::runtime_error(
-            a.positional[0] + ": the structure is checked, but this version cannot run it yet "
-                              "(undex-solid and the coupler are still to come); `undex check` validates it");
-    // A fluid-only case needs only the fluid process.
+    if (parts.structure && parts.fluid)
+        throw std::runtime_error(a.positional[0] + ": a fluid with a structure needs the coupler, which this "
+                                                   "version does not have yet; each part alone runs");
+    // A single-field case needs only its own process.
     const auto self = std::filesystem::read_symlink("/proc/self/exe");
-    const std::string fluid = (self.parent_path() / "undex-fluid").string();
+    const std::string fluid = (self.parent_path() / (parts.fluid ? "undex-fluid" : "undex-solid")).string();
     std::vector<std::string> args = {fluid, a.positional[0]};
     for (const auto& o : a.overrides)
         args.insert(args.end(), {"--set", o});
@@ -236,7 +235,8 @@ int options() {
     for (const auto& n : undex::fluid::interface_riemann_names())
         std::cout << "  " << n.name << "  " << n.doc << "\n";
     std::cout << "structure.kinematics:\n";
-    for (const auto& n : undex::solid::kinematics_names()) std::cout << "  " << n.first << "  " << n.second << "\n";
+    for (const auto& n : undex::solid::kinematics_names())
+        std::cout << "  " << n.first << "  " << n.second << "\n";
     std::cout << "geometry: PLANAR_1D CYLINDRICAL_1D SPHERICAL_1D PLANAR_2D AXISYMMETRIC_2D\n"
               << "boundary type: TRANSMISSIVE WALL SYMMETRY PRESSURE PERIODIC\n"
               << "material models: stiffened_gas { gamma p_inf }, tait { gamma B A rho0 as_stiffened_gas }\n"

@@ -1,0 +1,95 @@
+#include "h5.hpp"
+
+#include <stdexcept>
+
+namespace undex::h5 {
+
+void check(herr_t status, const std::string& what) {
+    if (status < 0) throw std::runtime_error("HDF5: cannot " + what);
+}
+
+void write_attr_string(hid_t obj, const char* name, const std::string& value) {
+    if (H5Aexists(obj, name) > 0) H5Adelete(obj, name);
+    hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, value.size() + 1);
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t attr = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+    check(H5Awrite(attr, type, value.c_str()), std::string("write attribute ") + name);
+    H5Aclose(attr);
+    H5Sclose(space);
+    H5Tclose(type);
+}
+
+namespace {
+template <class T> void write_scalar(hid_t obj, const char* name, T value, hid_t mem, hid_t file) {
+    if (H5Aexists(obj, name) > 0) H5Adelete(obj, name);
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t attr = H5Acreate2(obj, name, file, space, H5P_DEFAULT, H5P_DEFAULT);
+    check(H5Awrite(attr, mem, &value), std::string("write attribute ") + name);
+    H5Aclose(attr);
+    H5Sclose(space);
+}
+} // namespace
+
+void write_attr_double(hid_t obj, const char* name, double value) {
+    write_scalar(obj, name, value, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE);
+}
+void write_attr_long(hid_t obj, const char* name, long value) {
+    write_scalar(obj, name, value, H5T_NATIVE_LONG, H5T_STD_I64LE);
+}
+
+void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const double* data) {
+    if (H5Lexists(loc, name, H5P_DEFAULT) > 0) H5Ldelete(loc, name, H5P_DEFAULT);
+    hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+    hid_t set = H5Dcreate2(loc, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (set < 0) throw std::runtime_error(std::string("HDF5: cannot create dataset ") + name);
+    check(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
+          std::string("write ") + name);
+    H5Dclose(set);
+    H5Sclose(space);
+}
+
+std::string read_attr_string(hid_t obj, const char* name) {
+    hid_t attr = H5Aopen(obj, name, H5P_DEFAULT);
+    if (attr < 0) throw std::runtime_error(std::string("missing attribute ") + name);
+    hid_t type = H5Aget_type(attr);
+    std::string s(H5Tget_size(type), '\0');
+    hid_t mem = H5Tcopy(H5T_C_S1);
+    H5Tset_size(mem, s.size());
+    H5Aread(attr, mem, s.data());
+    H5Tclose(mem);
+    H5Tclose(type);
+    H5Aclose(attr);
+    s.resize(s.find('\0') == std::string::npos ? s.size() : s.find('\0'));
+    return s;
+}
+
+double read_attr_double(hid_t obj, const char* name) {
+    double v = 0;
+    hid_t attr = H5Aopen(obj, name, H5P_DEFAULT);
+    if (attr < 0) throw std::runtime_error(std::string("missing attribute ") + name);
+    H5Aread(attr, H5T_NATIVE_DOUBLE, &v);
+    H5Aclose(attr);
+    return v;
+}
+
+std::vector<double> read_dataset(hid_t loc, const std::string& name) {
+    hid_t set = H5Dopen2(loc, name.c_str(), H5P_DEFAULT);
+    if (set < 0) throw std::runtime_error("missing dataset " + name);
+    hid_t space = H5Dget_space(set);
+    const hssize_t n = H5Sget_simple_extent_npoints(space);
+    std::vector<double> v(static_cast<size_t>(n));
+    H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Sclose(space);
+    H5Dclose(set);
+    return v;
+}
+
+hid_t open_read(const std::string& path) {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (f < 0) throw std::runtime_error(path + ": cannot open (not an HDF5 output of undex?)");
+    return f;
+}
+
+} // namespace undex::h5

@@ -1,0 +1,27 @@
+// Small HDF5 helpers shared by the fluid and structure outputs: scalar attributes, double datasets, reading
+// back. Every call throws std::runtime_error naming what failed.
+#pragma once
+#include <hdf5.h>
+
+#include <string>
+#include <vector>
+
+namespace undex::h5 {
+
+void check(herr_t status, const std::string& what);
+void write_attr_string(hid_t obj, const char* name, const std::string& value);
+void write_attr_double(hid_t obj, const char* name, double value);
+void write_attr_long(hid_t obj, const char* name, long value);
+template <class T> void write_attr(hid_t obj, const char* name, T value) {
+    if constexpr (std::is_same_v<T, double>)
+        write_attr_double(obj, name, value);
+    else
+        write_attr_long(obj, name, static_cast<long>(value));
+}
+void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const double* data);
+std::string read_attr_string(hid_t obj, const char* name);
+double read_attr_double(hid_t obj, const char* name);
+std::vector<double> read_dataset(hid_t loc, const std::string& name);
+hid_t open_read(const std::string& path);
+
+} // namespace undex::h5

@@ -1,0 +1,38 @@
+// undex-solid CASE [--set key=value]...: runs the structure solver on a structure-only case.
+#include "case_file.hpp"
+#include "run_column.hpp"
+
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <vector>
+
+int main(int argc, char** argv) {
+    std::string path;
+    std::vector<std::string> overrides;
+    for (int k = 1; k < argc; ++k) {
+        if (std::strcmp(argv[k], "--set") == 0 && k + 1 < argc)
+            overrides.push_back(argv[++k]);
+        else if (std::strncmp(argv[k], "--set=", 6) == 0)
+            overrides.push_back(argv[k] + 6);
+        else if (argv[k][0] == '-') {
+            std::cerr << "usage: undex-solid CASE [--set key=value]...\n";
+            return 64;
+        } else
+            path = argv[k];
+    }
+    if (path.empty()) {
+        std::cerr << "usage: undex-solid CASE [--set key=value]...\n";
+        return 64;
+    }
+    try {
+        const auto c = undex::CaseFile::load(path, overrides);
+        return undex::solid::run_column(c, std::cout);
+    } catch (const undex::CaseError& e) {
+        std::cerr << "undex-solid: error: " << e.what() << "\n";
+        return 1;
+    } catch (const std::exception& e) {
+        std::cerr << "undex-solid: error: " << e.what() << "\n";
+        return 1;
+    }
+}
