@@ -105,27 +105,6 @@ bool inside(const cfg::Region& r, double x, double y) {
     return true;
 }
 
-// Whether a directory could be created or written, tested for real (permission bits say nothing to root,
-// nor about read-only or pseudo file systems): a probe directory is made in the nearest existing ancestor
-// and removed again, so nothing is left behind.
-bool writable_directory(const std::filesystem::path& dir) {
-    namespace fs = std::filesystem;
-    fs::path p = fs::absolute(dir);
-    while (!p.empty()) {
-        std::error_code ec;
-        if (fs::exists(p, ec)) {
-            if (!fs::is_directory(p, ec)) return false;
-            std::string probe = (p / ".undex-probe-XXXXXX").string();
-            if (!mkdtemp(probe.data())) return false;
-            rmdir(probe.c_str());
-            return true;
-        }
-        if (p == p.parent_path()) break;
-        p = p.parent_path();
-    }
-    return false;
-}
-
 void validate_boundary(const CaseFile& cf, const cfg::Boundary& b, const std::string& path) {
     if (b.type() == cfg::Boundary::TYPE_UNSET) cf.fail(path + ".type", "boundary type is not set");
     if (b.type() == cfg::Boundary::PRESSURE) {
@@ -144,6 +123,28 @@ void validate_boundary(const CaseFile& cf, const cfg::Boundary& b, const std::st
 }
 
 } // namespace
+
+// Whether a directory could be created or written, tested for real (permission bits say nothing to root,
+// nor about read-only or pseudo file systems): a probe directory is made in the nearest existing ancestor
+// and removed again, so nothing is left behind.
+bool writable_directory(const std::string& directory) {
+    const std::filesystem::path dir(directory);
+    namespace fs = std::filesystem;
+    fs::path p = fs::absolute(dir);
+    while (!p.empty()) {
+        std::error_code ec;
+        if (fs::exists(p, ec)) {
+            if (!fs::is_directory(p, ec)) return false;
+            std::string probe = (p / ".undex-probe-XXXXXX").string();
+            if (!mkdtemp(probe.data())) return false;
+            rmdir(probe.c_str());
+            return true;
+        }
+        if (p == p.parent_path()) break;
+        p = p.parent_path();
+    }
+    return false;
+}
 
 void validate(const CaseFile& cf) {
     const cfg::Case& c = cf.get();

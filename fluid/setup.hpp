@@ -30,6 +30,8 @@ struct RunPlan {
 
 // Checks every fluid part of the case; throws CaseError naming the field and line.
 void validate(const CaseFile& c);
+// Whether an output directory can be created or written (tested for real, leaving nothing behind).
+bool writable_directory(const std::string& directory);
 // The run plan (output times, directory, gauges) of a validated case.
 RunPlan plan(const CaseFile& c);
 // Builds the solver and projects the initial data. Throws CaseError or SolverFailure.

@@ -6,6 +6,7 @@
 #include "material_elastic.hpp"
 #include "material_foam_1d.hpp"
 #include "material_johnson_cook.hpp"
+#include "setup.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -162,6 +163,9 @@ StructureModel make_structure(const CaseFile& cf) {
     if (!(st.safety() > 0 && st.safety() <= 1))
         cf.fail("structure.safety", "safety factor must lie in (0, 1]");
     if (!(c.end_time() > 0)) cf.fail("end_time", "must be positive");
+    const auto plan = fluid::plan(cf);
+    if (!fluid::writable_directory(plan.directory))
+        cf.fail("output.directory", "cannot write the output directory '" + plan.directory + "'");
 
     StructureModel model;
     model.column = std::make_unique<Column1D>(layers, st.kinematics() == "uniaxial_strain"

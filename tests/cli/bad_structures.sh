@@ -91,6 +91,7 @@ bad layer-thinner-than-element '0,/element_size: 0.002/s//element_size: 0.02/' 7
 bad unknown-material 's/material: "foam"/material: "cork"/' 8 'structure.layers[1].material'
 bad dt-above-stable 's/back { type: FREE }/back { type: FREE } dt: 1e-6/' 11 'structure.dt'
 bad pressure-without-history 's/front { type: PRESSURE pressure {[^}]*} }/front { type: PRESSURE }/' 10 'structure.front'
+bad unwritable-output 's|"@OUT@"|"/proc/undex-cannot-write"|' 14 'output.directory'
 bad unknown-kinematics 's/back { type: FREE }/back { type: FREE } kinematics: "bent"/' 11 'structure.kinematics'
 
 echo "$passed passed, $failed failed"
