@@ -63,7 +63,11 @@ Args parse(int argc, char** argv, int first) {
 
 std::string h5_of(const std::string& dir) {
     const std::filesystem::path p(dir);
-    return std::filesystem::is_directory(p) ? (p / "fluid.h5").string() : dir;
+    if (!std::filesystem::is_directory(p)) return dir;
+    // A structure-only run has solid.h5 and no fluid.h5.
+    if (!std::filesystem::exists(p / "fluid.h5") && std::filesystem::exists(p / "solid.h5"))
+        return (p / "solid.h5").string();
+    return (p / "fluid.h5").string();
 }
 
 // Which parts the case holds; each is checked in full. A case with neither is an error.
@@ -144,6 +148,9 @@ int sample(const Args& a) {
     for (const char* k : {"time", "line", "points"})
         if (!a.options.count(k)) throw std::invalid_argument(std::string("sample needs --") + k);
     const std::string h5 = h5_of(a.positional[0]);
+    if (std::filesystem::path(h5).filename() == "solid.h5")
+        throw std::runtime_error(h5 + ": sample evaluates fluid fields; a structure's fields are datasets of "
+                                      "solid.h5 (fields/NNNNNN) and its gauges print with `undex gauges`");
     const auto run = undex::fluid::read_run(h5);
     if (run.times.empty()) throw std::runtime_error(h5 + ": holds no output");
     const double t = std::stod(a.options.at("time"));
@@ -201,20 +208,24 @@ int gauges(const Args& a) {
         if (!found) throw std::runtime_error("no gauge named '" + names[0] + "' in " + h5);
     }
     if (names.empty()) throw std::runtime_error(h5 + ": the case has no gauges");
+    const bool solid = std::filesystem::path(h5).filename() == "solid.h5";
+    const std::vector<std::string> columns =
+        solid ? std::vector<std::string>{"t", "u", "v", "a", "stress_xx", "peeq"}
+              : std::vector<std::string>{"t", "rho", "u", "v", "p"};
     std::vector<std::vector<std::vector<double>>> cols;
     for (const auto& n : names)
-        cols.push_back(undex::fluid::read_gauge(h5, n));
+        cols.push_back(undex::fluid::read_gauge(h5, n, columns));
     std::printf("t");
     const bool many = names.size() > 1;
     for (const auto& n : names)
-        for (const char* f : {"rho", "u", "v", "p"})
-            std::printf(many ? ",%s.%s" : ",%s", many ? n.c_str() : f, f);
+        for (size_t f = 1; f < columns.size(); ++f)
+            std::printf(many ? ",%s.%s" : ",%s", many ? n.c_str() : columns[f].c_str(), columns[f].c_str());
     std::printf("\n");
     const size_t rows = cols[0][0].size();
     for (size_t r = 0; r < rows; ++r) {
         std::printf("%.12g", cols[0][0][r]);
         for (const auto& g : cols)
-            for (int f = 1; f < 5; ++f)
+            for (size_t f = 1; f < columns.size(); ++f)
                 std::printf(",%.12g", r < g[f].size() ? g[f][r] : NAN);
         std::printf("\n");
     }

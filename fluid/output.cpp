@@ -205,10 +205,11 @@ std::vector<double> read_level_set(const std::string& h5_path, const std::string
     return phi;
 }
 
-std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name) {
+std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name,
+                                            const std::vector<std::string>& columns) {
     hid_t f = open_read(h5_path);
     std::vector<std::vector<double>> cols;
-    for (const char* c : {"t", "rho", "u", "v", "p"})
+    for (const auto& c : columns)
         cols.push_back(read_dataset(f, "gauges/" + name + "/" + c));
     H5Fclose(f);
     return cols;

@@ -59,7 +59,9 @@ StoredRun read_run(const std::string& h5_path);
 std::vector<double> read_coefficients(const std::string& h5_path, const std::string& group);
 // Level set φ of a two-fluid run (empty for one fluid).
 std::vector<double> read_level_set(const std::string& h5_path, const std::string& group);
-// Columns t, rho, u, v, p of one gauge.
-std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name);
+// The columns of one gauge (fluid: t, rho, u, v, p; structure: t, u, v, a, stress_xx, peeq).
+std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name,
+                                            const std::vector<std::string>& columns = {"t", "rho", "u", "v",
+                                                                                       "p"});
 
 } // namespace undex::fluid

@@ -7,6 +7,7 @@
 #include "structure_setup.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -41,6 +42,7 @@ class ColumnOutput {
         h5::write_dataset(file_, "element_x", {xe.size()}, xe.data());
         H5Gclose(H5Gcreate2(file_, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
         H5Gclose(H5Gcreate2(file_, "energies", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+        H5Gclose(H5Gcreate2(file_, "gauges", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
         H5Fflush(file_, H5F_SCOPE_GLOBAL);
     }
     ~ColumnOutput() {
@@ -49,6 +51,26 @@ class ColumnOutput {
     ColumnOutput(const ColumnOutput&) = delete;
     ColumnOutput& operator=(const ColumnOutput&) = delete;
 
+    struct Gauge {
+        std::string name;
+        size_t node, element;
+        std::vector<double> series; // t, u, v, a, stress_xx, peeq interleaved
+    };
+    void add_gauge(const std::string& name, double x, const Column1D& col) {
+        size_t node = 0, element = 0;
+        for (size_t i = 1; i < col.nodes(); ++i)
+            if (std::abs(col.node_x(i) - x) < std::abs(col.node_x(node) - x)) node = i;
+        while (element + 1 < col.element_count() && col.node_x(element + 1) < x)
+            ++element;
+        gauges_.push_back({name, node, element, {}});
+    }
+    void record_gauges(const Column1D& col) {
+        for (auto& g : gauges_) {
+            const auto& p = col.point(g.element);
+            g.series.insert(g.series.end(), {col.time(), col.displacement(g.node), col.velocity(g.node),
+                                             col.acceleration(g.node), p.stress[0], p.peeq});
+        }
+    }
     void record_energies(const Column1D& col) {
         const auto& e = col.energies();
         energies_.insert(energies_.end(),
@@ -85,15 +107,14 @@ class ColumnOutput {
     }
     void write_energies() {
         const char* names[6] = {"t", "kinetic", "elastic", "plastic", "external", "balance_error"};
-        const size_t rows = energies_.size() / 6;
-        hid_t g = H5Gopen2(file_, "energies", H5P_DEFAULT);
-        std::vector<double> col(rows);
-        for (int k = 0; k < 6; ++k) {
-            for (size_t r = 0; r < rows; ++r)
-                col[r] = energies_[r * 6 + k];
-            h5::write_dataset(g, names[k], {rows}, col.data());
+        write_table(file_, "energies", names, energies_);
+        const char* columns[6] = {"t", "u", "v", "a", "stress_xx", "peeq"};
+        for (const auto& gauge : gauges_) {
+            const std::string group = "gauges/" + gauge.name;
+            if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) <= 0)
+                H5Gclose(H5Gcreate2(file_, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+            write_table(file_, group.c_str(), columns, gauge.series);
         }
-        H5Gclose(g);
         H5Fflush(file_, H5F_SCOPE_GLOBAL);
     }
     void set_status(const std::string& s) {
@@ -103,6 +124,20 @@ class ColumnOutput {
     const std::string& path() const { return path_; }
 
   private:
+    // Six interleaved columns into datasets of one group.
+    static void write_table(hid_t file, const char* group, const char* const* names,
+                            const std::vector<double>& data) {
+        const size_t rows = data.size() / 6;
+        hid_t g = H5Gopen2(file, group, H5P_DEFAULT);
+        std::vector<double> col(rows);
+        for (int k = 0; k < 6; ++k) {
+            for (size_t r = 0; r < rows; ++r)
+                col[r] = data[r * 6 + k];
+            h5::write_dataset(g, names[k], {rows}, col.data());
+        }
+        H5Gclose(g);
+    }
+    std::vector<Gauge> gauges_;
     std::string path_;
     hid_t file_ = -1;
     int count_ = 0;
@@ -119,7 +154,10 @@ int run_column(const CaseFile& c, std::ostream& log) {
         << fmt("%.4g", model.dt) << " s, end time " << p.end_time << " s, output " << p.directory
         << "/solid.h5" << std::endl;
     ColumnOutput out(p.directory, c.text(), col);
+    for (const auto& g : c.get().structure().gauges())
+        out.add_gauge(g.name(), g.x(), col);
     out.record_energies(col);
+    out.record_gauges(col);
     out.write_fields(col);
     const auto start = std::chrono::steady_clock::now();
     auto last_progress = start;
@@ -141,7 +179,10 @@ int run_column(const CaseFile& c, std::ostream& log) {
                 << last_good.steps() << ") is in " << out.path() << std::endl;
             return 2;
         }
-        if (col.steps() % p.gauge_every == 0 || hits) out.record_energies(col);
+        if (col.steps() % p.gauge_every == 0 || hits) {
+            out.record_energies(col);
+            out.record_gauges(col);
+        }
         if (hits) {
             out.write_fields(col);
             ++next;

@@ -15,6 +15,7 @@ namespace undex::solid {
 //                   strain_xx, plastic_strain_xx, peeq, peeq_rate
 //   /energies       t, kinetic, elastic, plastic, external, balance_error (per unit area, every
 //                   output.gauge_every steps and at every output)
+//   /gauges/NAME    t, u, v, a (nearest node), stress_xx, peeq (element containing x), as often
 // Returns 0 when complete, 2 when the run stopped on a state the method cannot hold (after writing the last
 // good state).
 int run_column(const CaseFile& c, std::ostream& log);

@@ -36,7 +36,7 @@ bool has_structure(const CaseFile& cf) {
 
 namespace {
 
-std::string g(double v) {
+std::string gfmt(double v) {
     char b[32];
     std::snprintf(b, sizeof b, "%.6g", v);
     return b;
@@ -139,11 +139,11 @@ StructureModel make_structure(const CaseFile& cf) {
             cf.fail(path + ".material", "unknown structure material '" + L.material() + "'");
         if (!(L.element_size() > 0))
             cf.fail(path + ".element_size",
-                    "element size must be positive (got " + g(L.element_size()) + " m)");
+                    "element size must be positive (got " + gfmt(L.element_size()) + " m)");
         if (!(L.thickness() > 0)) cf.fail(path + ".thickness", "thickness must be positive");
         if (L.thickness() < L.element_size() * (1 - 1e-12))
-            cf.fail(path + ".thickness", "the layer (" + g(L.thickness()) +
-                                             " m) is thinner than one element (" + g(L.element_size()) +
+            cf.fail(path + ".thickness", "the layer (" + gfmt(L.thickness()) +
+                                             " m) is thinner than one element (" + gfmt(L.element_size()) +
                                              " m)");
         Layer1D layer;
         layer.law = law->second;
@@ -167,6 +167,19 @@ StructureModel make_structure(const CaseFile& cf) {
     if (!fluid::writable_directory(plan.directory))
         cf.fail("output.directory", "cannot write the output directory '" + plan.directory + "'");
 
+    double total = 0;
+    for (const auto& L : st.layers())
+        total += L.thickness();
+    for (int k = 0; k < st.gauges_size(); ++k) {
+        const auto& g = st.gauges(k);
+        const std::string path = "structure.gauges[" + std::to_string(k) + "]";
+        for (int j = 0; j < k; ++j)
+            if (st.gauges(j).name() == g.name())
+                cf.fail(path + ".name", "gauge '" + g.name() + "' is defined twice");
+        if (!(g.x() >= 0 && g.x() <= total))
+            cf.fail(path + ".x", "gauge lies outside the structure (0 to " + gfmt(total) + " m)");
+    }
+
     StructureModel model;
     model.column = std::make_unique<Column1D>(layers, st.kinematics() == "uniaxial_strain"
                                                           ? Kinematics1D::UniaxialStrain
@@ -182,8 +195,8 @@ StructureModel make_structure(const CaseFile& cf) {
     if (st.has_dt()) {
         if (!(st.dt() > 0)) cf.fail("structure.dt", "time step must be positive");
         if (st.dt() > stable)
-            cf.fail("structure.dt", "time step " + g(st.dt()) + " s exceeds the stable one, " + g(stable) +
-                                        " s (min L_e / c_e)");
+            cf.fail("structure.dt", "time step " + gfmt(st.dt()) + " s exceeds the stable one, " +
+                                        gfmt(stable) + " s (min L_e / c_e)");
         model.dt = st.dt();
     }
     return model;

@@ -22,7 +22,7 @@ structure {
   layers { material: "foam" thickness: 0.025 element_size: 0.000833333333333 }
   layers { material: "steel" thickness: 0.012 element_size: 0.002 }
   front { type: PRESSURE pressure { p_ambient: 0 p_peak: 1e7 theta: 2.4e-4 } }
-  back { type: FREE }
+  back { type: FREE } gauges { name: "back" x: 0.049 }
 }
 end_time: 1e-3
 output { directory: "@OUT@" }
@@ -65,6 +65,12 @@ PY
 then echo "ok: a structure runs alone and closes its energy balance"; passed=$((passed + 1))
 else echo "FAIL: structure run: exit $rc $(cat "$TMP/err") $(tail -n 2 "$TMP/run.log")"; failed=$((failed + 1)); fi
 
+# The gauge of the run prints as CSV, time first.
+"$UNDEX" gauges "$TMP/out-valid" --name back > "$TMP/g.csv" 2> "$TMP/err"
+if [ "$(head -n 1 "$TMP/g.csv")" = "t,u,v,a,stress_xx,peeq" ] && [ "$(wc -l < "$TMP/g.csv")" -gt 10 ]; then
+    echo "ok: structure gauge as CSV"; passed=$((passed + 1))
+else echo "FAIL: structure gauge: $(head -n 2 "$TMP/g.csv") $(cat "$TMP/err")"; failed=$((failed + 1)); fi
+
 # An element that inverts stops the run (exit 2) naming it, and the last good state is kept.
 sed -e 's/sigma_pl: 1.5e6 eta: 100 eps_d: 0.8 E_lock: 2e11/sigma_pl: 1.5e6 eta: 0 eps_d: 0.99 E_lock: 1e9/' \
     -e 's/p_peak: 1e7/p_peak: 1e9/' -e "s|@OUT@|$TMP/out-invert|" "$TMP/base.in" > "$TMP/invert.case"
@@ -92,6 +98,7 @@ bad unknown-material 's/material: "foam"/material: "cork"/' 8 'structure.layers[
 bad dt-above-stable 's/back { type: FREE }/back { type: FREE } dt: 1e-6/' 11 'structure.dt'
 bad pressure-without-history 's/front { type: PRESSURE pressure {[^}]*} }/front { type: PRESSURE }/' 10 'structure.front'
 bad unwritable-output 's|"@OUT@"|"/proc/undex-cannot-write"|' 14 'output.directory'
+bad gauge-outside 's/x: 0.049/x: 0.06/' 11 'structure.gauges[0].x'
 bad unknown-kinematics 's/back { type: FREE }/back { type: FREE } kinematics: "bent"/' 11 'structure.kinematics'
 
 echo "$passed passed, $failed failed"
