@@ -363,15 +363,7 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                 double acc[NV][NB] = {};
                 // Point-major layout so that the loops over quadrature points vectorise.
                 double s[NV][NQV], F[NV][NQV], G[NV][NQV], P[NQV];
-                for (int v = 0; v < NV; ++v) {
-                    for (int q = 0; q < NQV; ++q)
-                        s[v][q] = 0.0;
-                    for (int l = 0; l < NB; ++l) {
-                        const double cl = c[v * NB + l];
-                        for (int q = 0; q < NQV; ++q)
-                            s[v][q] += cl * vol_.phi[l][q];
-                    }
-                }
+                at_points(c, vol_.phi, s);
                 for (int q = 0; q < NQV; ++q) {
                     const double rho = s[0][q], u = s[1][q] / rho, vv = D == 2 ? s[2][q] / rho : 0.0;
                     const double p = eos_.pressure(rho, s[E][q] - 0.5 * rho * (u * u + vv * vv));
@@ -725,7 +717,7 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
                 // nothing more.
                 const double rho_floor = eps * avg[0];
                 double Q[NV][NP];
-                eval_points(c, Q);
+                at_points(c, points_, Q);
                 double rho_min = avg[0], m_min = 1e300;
                 for (int k = 0; k < NP; ++k)
                     rho_min = std::min(rho_min, Q[0][k]);
@@ -763,15 +755,15 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
         if (bad_i >= 0) fail_cell(bad_i, bad_j, bad_what, t);
     }
 
-    // The conserved state at every volume and face quadrature point of cell c, point-major.
-    void eval_points(const double* c, double (&Q)[NV][NP]) const {
+    // The conserved state of cell c at N points, point-major: Q[v][k] = Σ_l c[v][l] φ_l(point k).
+    template <int N> static void at_points(const double* c, const double (&phi)[NB][N], double (&Q)[NV][N]) {
         for (int v = 0; v < NV; ++v) {
-            for (int k = 0; k < NP; ++k)
+            for (int k = 0; k < N; ++k)
                 Q[v][k] = 0.0;
             for (int l = 0; l < NB; ++l) {
                 const double cl = c[v * NB + l];
-                for (int k = 0; k < NP; ++k)
-                    Q[v][k] += cl * points_[l][k];
+                for (int k = 0; k < N; ++k)
+                    Q[v][k] += cl * phi[l][k];
             }
         }
     }

@@ -56,6 +56,32 @@ const std::vector<NamedOption>& interface_riemann_names() {
     return names;
 }
 
+void validate_pressure_history(const CaseFile& cf, const cfg::PressureHistory& h, const std::string& path) {
+    if (h.table_t_size() != h.table_p_size())
+        cf.fail(path + ".table_p", "table_t and table_p must have the same length");
+    for (int k = 1; k < h.table_t_size(); ++k)
+        if (!(h.table_t(k) > h.table_t(k - 1)))
+            cf.fail(path + ".table_t", "times must increase (entry " + std::to_string(k) + ")");
+    if (h.table_t_size() == 0 && !(h.theta() > 0))
+        cf.fail(path + ".theta", "decay time theta must be positive");
+}
+
+std::function<double(double)> pressure_history(const cfg::PressureHistory& h) {
+    if (h.table_t_size() > 0) {
+        std::vector<double> t(h.table_t().begin(), h.table_t().end()),
+            p(h.table_p().begin(), h.table_p().end());
+        return [t, p](double time) {
+            if (time <= t.front()) return p.front();
+            if (time >= t.back()) return p.back();
+            const auto k = std::upper_bound(t.begin(), t.end(), time) - t.begin();
+            const double f = (time - t[k - 1]) / (t[k] - t[k - 1]);
+            return (1 - f) * p[k - 1] + f * p[k];
+        };
+    }
+    const double amb = h.p_ambient(), peak = h.p_peak(), theta = h.theta(), t0 = h.t_arrival();
+    return [=](double time) { return time < t0 ? amb : amb + peak * std::exp(-(time - t0) / theta); };
+}
+
 namespace {
 
 bool is_2d(cfg::Geometry g) {
@@ -109,14 +135,7 @@ void validate_boundary(const CaseFile& cf, const cfg::Boundary& b, const std::st
     if (b.type() == cfg::Boundary::TYPE_UNSET) cf.fail(path + ".type", "boundary type is not set");
     if (b.type() == cfg::Boundary::PRESSURE) {
         if (!b.has_pressure()) cf.fail(path, "a PRESSURE boundary needs a 'pressure' history");
-        const auto& h = b.pressure();
-        if (h.table_t_size() != h.table_p_size())
-            cf.fail(path + ".pressure.table_p", "table_t and table_p must have the same length");
-        for (int k = 1; k < h.table_t_size(); ++k)
-            if (!(h.table_t(k) > h.table_t(k - 1)))
-                cf.fail(path + ".pressure.table_t", "times must increase (entry " + std::to_string(k) + ")");
-        if (h.table_t_size() == 0 && !(h.theta() > 0))
-            cf.fail(path + ".pressure.theta", "decay time theta must be positive");
+        validate_pressure_history(cf, b.pressure(), path + ".pressure");
     } else if (b.has_pressure()) {
         cf.fail(path + ".pressure", "a pressure history is only used by PRESSURE boundaries");
     }
@@ -363,22 +382,6 @@ RunPlan plan(const CaseFile& cf) {
 }
 
 namespace {
-
-std::function<double(double)> pressure_history(const cfg::PressureHistory& h) {
-    if (h.table_t_size() > 0) {
-        std::vector<double> t(h.table_t().begin(), h.table_t().end()),
-            p(h.table_p().begin(), h.table_p().end());
-        return [t, p](double time) {
-            if (time <= t.front()) return p.front();
-            if (time >= t.back()) return p.back();
-            const auto k = std::upper_bound(t.begin(), t.end(), time) - t.begin();
-            const double f = (time - t[k - 1]) / (t[k] - t[k - 1]);
-            return (1 - f) * p[k - 1] + f * p[k];
-        };
-    }
-    const double amb = h.p_ambient(), peak = h.p_peak(), theta = h.theta(), t0 = h.t_arrival();
-    return [=](double time) { return time < t0 ? amb : amb + peak * std::exp(-(time - t0) / theta); };
-}
 
 Boundary boundary(const cfg::Boundary& b) {
     Boundary out;

@@ -2,13 +2,17 @@
 #pragma once
 #include "solver.hpp"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace undex {
 class CaseFile;
+namespace config {
+class PressureHistory;
 }
+} // namespace undex
 
 namespace undex::fluid {
 
@@ -30,6 +34,10 @@ struct RunPlan {
 
 // Checks every fluid part of the case; throws CaseError naming the field and line.
 void validate(const CaseFile& c);
+// A prescribed pressure history p(t) (exponential or table) of a case, checked and as a function; shared by
+// fluid boundaries and structure faces.
+void validate_pressure_history(const CaseFile& c, const config::PressureHistory& h, const std::string& path);
+std::function<double(double)> pressure_history(const config::PressureHistory& h);
 // Whether an output directory can be created or written (tested for real, leaving nothing behind).
 bool writable_directory(const std::string& directory);
 // The run plan (output times, directory, gauges) of a validated case.

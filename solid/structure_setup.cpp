@@ -74,31 +74,11 @@ const char* law_field(const cfg::SolidMaterial& m) {
                                      : "foam_1d";
 }
 
-std::function<double(double)> pressure_history(const cfg::PressureHistory& h) {
-    if (h.table_t_size() > 0) {
-        std::vector<double> t(h.table_t().begin(), h.table_t().end()),
-            p(h.table_p().begin(), h.table_p().end());
-        return [t, p](double time) {
-            if (time <= t.front()) return p.front();
-            if (time >= t.back()) return p.back();
-            const auto k = std::upper_bound(t.begin(), t.end(), time) - t.begin();
-            const double f = (time - t[k - 1]) / (t[k] - t[k - 1]);
-            return (1 - f) * p[k - 1] + f * p[k];
-        };
-    }
-    const double amb = h.p_ambient(), peak = h.p_peak(), theta = h.theta(), t0 = h.t_arrival();
-    return [=](double time) { return time < t0 ? amb : amb + peak * std::exp(-(time - t0) / theta); };
-}
-
 void check_face(const CaseFile& cf, const cfg::SolidFace& f, const std::string& path) {
     if (f.type() == cfg::SolidFace::TYPE_UNSET) cf.fail(path + ".type", "face type is not set");
     if (f.type() == cfg::SolidFace::PRESSURE) {
         if (!f.has_pressure()) cf.fail(path, "a PRESSURE face needs a 'pressure' history");
-        const auto& h = f.pressure();
-        if (h.table_t_size() != h.table_p_size())
-            cf.fail(path + ".pressure.table_p", "table_t and table_p must have the same length");
-        if (h.table_t_size() == 0 && !(h.theta() > 0))
-            cf.fail(path + ".pressure.theta", "decay time theta must be positive");
+        fluid::validate_pressure_history(cf, f.pressure(), path + ".pressure");
     } else if (f.has_pressure()) {
         cf.fail(path + ".pressure", "a pressure history is only used by PRESSURE faces");
     }
@@ -188,7 +168,7 @@ StructureModel make_structure(const CaseFile& cf) {
         const auto& f = side == 0 ? st.front() : st.back();
         if (f.type() == cfg::SolidFace::FIXED) model.column->set_face(side, Face1D::Fixed);
         if (f.type() == cfg::SolidFace::PRESSURE)
-            model.column->set_pressure(side, pressure_history(f.pressure()));
+            model.column->set_pressure(side, fluid::pressure_history(f.pressure()));
     }
     const double stable = model.column->stable_dt();
     model.dt = st.safety() * stable;

@@ -32,36 +32,18 @@ inline exact::Solution undex_1d_exact(bool water_as_stiffened_gas) {
     return exact::Solution(gas, {1630.0, 0.0, 7.81e9}, water, {1000.0, 0.0, 1e5});
 }
 
-// Rightmost x in [a, b] where f crosses `level` going right (f(x) − level changes sign), by bisection on a
-// fine sampling; returns NaN if there is none.
-template <class F> double last_crossing(F&& f, double a, double b, int samples, double level) {
-    double prev_x = b, prev = f(b) - level;
-    for (int k = samples - 1; k >= 0; --k) {
-        const double x = a + (b - a) * k / samples, v = f(x) - level;
+// The first x where f crosses `level`, scanning [a, b] from the right (rightmost crossing) or from the left
+// (leftmost), on `samples` intervals and then by bisection; NaN if there is none.
+template <class F> double crossing(F&& f, double a, double b, int samples, double level, bool from_right) {
+    auto at = [&](int k) { return from_right ? b - (b - a) * k / samples : a + (b - a) * k / samples; };
+    double prev_x = at(0), prev = f(prev_x) - level;
+    for (int k = 1; k <= samples; ++k) {
+        const double x = at(k), v = f(x) - level;
         if ((v > 0) != (prev > 0)) {
-            double lo = x, hi = prev_x;
+            double lo = x, hi = prev_x; // f(lo) − level has the sign of v
             for (int it = 0; it < 60; ++it) {
                 const double mid = 0.5 * (lo + hi);
                 if (((f(mid) - level) > 0) == (v > 0))
-                    lo = mid;
-                else
-                    hi = mid;
-            }
-            return 0.5 * (lo + hi);
-        }
-        prev_x = x, prev = v;
-    }
-    return NAN;
-}
-template <class F> double first_crossing(F&& f, double a, double b, int samples, double level) {
-    double prev_x = a, prev = f(a) - level;
-    for (int k = 1; k <= samples; ++k) {
-        const double x = a + (b - a) * k / samples, v = f(x) - level;
-        if ((v > 0) != (prev > 0)) {
-            double lo = prev_x, hi = x;
-            for (int it = 0; it < 60; ++it) {
-                const double mid = 0.5 * (lo + hi);
-                if (((f(mid) - level) > 0) == (prev > 0))
                     lo = mid;
                 else
                     hi = mid;
@@ -95,10 +77,10 @@ inline Undex1dErrors undex_1d_errors(const fluid::FluidSolver& s, const exact::S
     auto p_num = [&](double x) { return s.evaluate(x, 0).p; };
     auto p_ex = [&](double x) { return ex.sample((x - x0) / t).p; };
     const int fine = m.nx * per_cell;
-    e.shock = last_crossing(p_num, m.x_min, m.x_max, fine, shock_level);
-    e.shock_exact = last_crossing(p_ex, m.x_min, m.x_max, fine, shock_level);
-    e.head = first_crossing(p_num, m.x_min, m.x_max, fine, head_level);
-    e.head_exact = first_crossing(p_ex, m.x_min, m.x_max, fine, head_level);
+    e.shock = crossing(p_num, m.x_min, m.x_max, fine, shock_level, true);
+    e.shock_exact = crossing(p_ex, m.x_min, m.x_max, fine, shock_level, true);
+    e.head = crossing(p_num, m.x_min, m.x_max, fine, head_level, false);
+    e.head_exact = crossing(p_ex, m.x_min, m.x_max, fine, head_level, false);
     e.interface_exact = x0 + ex.u_star() * t;
     const auto phi = s.level_set();
     e.interface = NAN;
