@@ -18,11 +18,6 @@
 
 namespace undex::solid {
 
-// A state the method cannot hold (an inverted element).
-struct StructureFailure : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
 enum class Kinematics1D { UniaxialStress, UniaxialStrain };
 enum class Face1D { Free, Fixed };
 
@@ -31,13 +26,6 @@ struct Layer1D {
     double thickness = 0;
     int elements = 0;
     bool uniaxial_law = false; // the law uses the xx components only
-};
-
-// Energies per unit area, accumulated over the run.
-struct Energies1D {
-    double kinetic = 0, internal = 0, plastic = 0, external = 0;
-    double elastic() const { return internal - plastic; }
-    double balance_error() const { return kinetic + internal - external; }
 };
 
 class Column1D {
@@ -83,7 +71,7 @@ class Column1D {
     const PointState& point(size_t e) const { return points_[e]; }
     double time() const { return time_; }
     long steps() const { return steps_; }
-    const Energies1D& energies() const { return en_; }
+    const Energies& energies() const { return en_; }
 
     void set_face(int side, Face1D f) { face_[side] = f; }
     // Pressure p(t) on a face (side 0 front, 1 back), pushing into the column.
@@ -112,12 +100,28 @@ class Column1D {
         if (steps_ == 0) forces(time_, u_); // a^0
         const size_t n = x_.size();
         const double h = steps_ == 0 ? 0.5 * dt : 0.5 * (dt + last_dt_);
-        std::vector<double> du(n);
+        // Trial velocities and increments; the state is changed only once every element is known to stay
+        // valid, so that a failure leaves the last good state in place.
+        std::vector<double> v(n), du(n);
         for (size_t i = 0; i < n; ++i) {
-            v_[i] += h * a_[i];
-            if ((i == 0 && face_[0] == Face1D::Fixed) || (i + 1 == n && face_[1] == Face1D::Fixed)) v_[i] = 0;
-            du[i] = dt * v_[i];
+            v[i] = v_[i] + h * a_[i];
+            if ((i == 0 && face_[0] == Face1D::Fixed) || (i + 1 == n && face_[1] == Face1D::Fixed)) v[i] = 0;
+            du[i] = dt * v[i];
+            if (!std::isfinite(du[i])) {
+                std::ostringstream s;
+                s << "node " << i << " (x = " << x_[i] << " m) has a non-finite velocity at t = " << time_ + dt
+                  << " s in step " << steps_ + 1;
+                throw StructureFailure(s.str());
+            }
         }
+        for (size_t e = 0; e < elements_.size(); ++e)
+            if (!(x_[e + 1] + u_[e + 1] + du[e + 1] - x_[e] - u_[e] - du[e] > 0)) {
+                std::ostringstream s;
+                s << "element " << e << " (layer " << elements_[e].layer << ", x = " << element_x(e)
+                  << " m) inverted at t = " << time_ + dt << " s in step " << steps_ + 1;
+                throw StructureFailure(s.str());
+            }
+        v_.swap(v);
         // External work of the face pressures over the step (trapezoidal in time).
         for (int side = 0; side < 2; ++side) {
             if (!pressure_[side]) continue;
@@ -130,12 +134,6 @@ class Column1D {
             const auto& el = elements_[e];
             const double l0 = x_[e + 1] + u_[e + 1] - x_[e] - u_[e];
             const double l1 = l0 + du[e + 1] - du[e];
-            if (!(l1 > 0)) {
-                std::ostringstream s;
-                s << "element " << e << " (layer " << el.layer << ", x = " << element_x(e)
-                  << " m) inverted at t = " << time_ + dt << " s in step " << steps_ + 1;
-                throw StructureFailure(s.str());
-            }
             const double deps = (du[e + 1] - du[e]) / (0.5 * (l0 + l1));
             PointState& p = points_[e];
             const double sigma0 = p.stress[0], wp0 = p.plastic_work;
@@ -167,7 +165,7 @@ class Column1D {
     std::vector<PointState> points_;
     Face1D face_[2] = {Face1D::Free, Face1D::Free};
     std::function<double(double)> pressure_[2];
-    Energies1D en_;
+    Energies en_;
     double time_ = 0, last_dt_ = 0;
     long steps_ = 0;
 

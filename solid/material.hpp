@@ -27,6 +27,20 @@ struct MaterialError : std::invalid_argument {
     using std::invalid_argument::invalid_argument;
 };
 
+// A state the method cannot hold (an inverted element, a non-finite velocity).
+struct StructureFailure : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// Energies of a structure (per unit area in 1D, per unit depth in plane strain, per radian in axisymmetry),
+// accumulated over the run. The internal energy includes the plastic dissipation; the hourglass energy is
+// the work of the hourglass forces of one-point quadrilaterals.
+struct Energies {
+    double kinetic = 0, internal = 0, plastic = 0, hourglass = 0, external = 0;
+    double elastic() const { return internal - plastic; }
+    double balance_error() const { return kinetic + internal + hourglass - external; }
+};
+
 class MaterialLaw {
   public:
     virtual ~MaterialLaw() = default;
@@ -35,6 +49,8 @@ class MaterialLaw {
     // Modulus of the fastest dilatational wave, λ̂ + 2μ̂ of physics.md §6 (for uniaxial laws the largest
     // uniaxial modulus), so that the stable time step is L_e / sqrt(wave_modulus / ρ).
     virtual double wave_modulus() const = 0;
+    // Elastic shear modulus G (0 for laws that are uniaxial by construction, which 2D elements refuse).
+    virtual double shear_modulus() const = 0;
     // Advances the point by the strain increment de over dt > 0.
     void update(const Voigt& de, double dt, PointState& s) const {
         for (int i = 0; i < 6; ++i)

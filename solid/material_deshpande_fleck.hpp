@@ -36,6 +36,7 @@ class DeshpandeFleck final : public MaterialLaw {
     std::string name() const override { return "deshpande_fleck"; }
     double density() const override { return c_.rho; }
     double wave_modulus() const override { return el_.wave_modulus(); }
+    double shear_modulus() const override { return el_.G; }
 
     double sigma_c(double ep) const {
         const auto& x = c_.eps_p;

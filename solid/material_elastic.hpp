@@ -14,6 +14,7 @@ class Elastic final : public MaterialLaw {
     std::string name() const override { return "elastic"; }
     double density() const override { return rho_; }
     double wave_modulus() const override { return el_.wave_modulus(); }
+    double shear_modulus() const override { return el_.G; }
 
   protected:
     void advance(const Voigt& de, double, PointState& s) const override {

@@ -24,6 +24,7 @@ class Foam1D final : public MaterialLaw {
     std::string name() const override { return "foam_1d"; }
     double density() const override { return c_.rho; }
     double wave_modulus() const override { return c_.E_lock; }
+    double shear_modulus() const override { return 0; }
 
   protected:
     void advance(const Voigt&, double dt, PointState& s) const override {

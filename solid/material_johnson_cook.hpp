@@ -27,6 +27,7 @@ class JohnsonCook final : public MaterialLaw {
     std::string name() const override { return "johnson_cook"; }
     double density() const override { return c_.rho; }
     double wave_modulus() const override { return el_.wave_modulus(); }
+    double shear_modulus() const override { return el_.G; }
 
     // Flow stress at plastic strain ep and plastic strain rate rate.
     double flow_stress(double ep, double rate) const {

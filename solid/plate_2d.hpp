@@ -1,0 +1,437 @@
+// Explicit 2D finite elements (physics.md §6): four-node quadrilaterals in plane strain (per unit depth) or
+// axisymmetry (x = r, y = z, per radian), one-point integration with hourglass stiffness, lumped mass,
+// central differences. Each element carries its own material law; layers are perfectly bonded because they
+// share nodes.
+//
+// Element kinematics (updated Lagrangian, small strain increments): the uniform-gradient matrix b of
+// Flanagan and Belytschko (1981) at the mid-step configuration gives the strain increment and the spin;
+// the stress is rotated by the spin (a 2D Hughes–Winget update) before the law sees the increment. In
+// axisymmetry the hoop increment is the centroid's Δu_r / r.
+//
+// Hourglass control (stiffness form, total displacement, reference geometry): the modes q = γ · u with
+// γ_I = ¼ (h_I − (h·X) b_xI − (h·Y) b_yI), h = (1, −1, 1, −1), are orthogonal to every linear field, so the
+// patch test is untouched. Their stiffness reproduces pure bending of a rectangle exactly
+// (Belytschko & Bindeman 1993): for a rectangle 2a × 2b, K_x = (4/3) E' b / a and K_y = (4/3) E' a / b with
+// the bending modulus E' = E / (1 − ν²) of the elastic constants, times r_c in axisymmetry, times a
+// user factor (1 by default). The hourglass energy is ½ K q², part of the energy balance.
+#pragma once
+#include "material.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+namespace undex::solid {
+
+enum class Plane { Strain, Axisymmetric };
+
+struct QuadMesh {
+    std::vector<double> x, y;              // reference node coordinates (x = r in axisymmetry)
+    std::vector<std::array<int, 4>> quads; // node numbers, counter-clockwise
+    std::vector<int> law;                  // per element: index into the laws
+};
+
+// A layered plate on a structured mesh: x from x0 over the span (nx elements), y through the thickness from
+// the front face y = 0, each layer with its own element count. Node (i, j) is j * (nx + 1) + i.
+struct LayeredPlate {
+    QuadMesh mesh;
+    int nx = 0, ny = 0;
+    std::vector<int> layer_of_row; // per element row j: its layer
+    int node(int i, int j) const { return j * (nx + 1) + i; }
+    int element(int i, int j) const { return j * nx + i; }
+};
+
+inline LayeredPlate layered_plate(double x0, double span, int nx, const std::vector<double>& thickness,
+                                  const std::vector<int>& rows) {
+    LayeredPlate p;
+    p.nx = nx;
+    std::vector<double> y = {0.0};
+    double top = 0;
+    for (size_t l = 0; l < thickness.size(); ++l) {
+        const double bottom = top;
+        top += thickness[l];
+        for (int k = 1; k <= rows[l]; ++k) {
+            y.push_back(k == rows[l] ? top : bottom + thickness[l] * k / rows[l]);
+            p.layer_of_row.push_back(static_cast<int>(l));
+        }
+    }
+    p.ny = static_cast<int>(y.size()) - 1;
+    for (int j = 0; j <= p.ny; ++j)
+        for (int i = 0; i <= nx; ++i) {
+            p.mesh.x.push_back(i == nx ? x0 + span : x0 + span * i / nx);
+            p.mesh.y.push_back(y[j]);
+        }
+    for (int j = 0; j < p.ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            p.mesh.quads.push_back({p.node(i, j), p.node(i + 1, j), p.node(i + 1, j + 1), p.node(i, j + 1)});
+            p.mesh.law.push_back(p.layer_of_row[j]);
+        }
+    return p;
+}
+
+class Plate2D {
+  public:
+    Plate2D(QuadMesh mesh, std::vector<std::shared_ptr<const MaterialLaw>> laws, Plane plane,
+            double hourglass = 1.0)
+        : plane_(plane), laws_(std::move(laws)), X_(std::move(mesh.x)), Y_(std::move(mesh.y)),
+          quads_(std::move(mesh.quads)), law_of_(std::move(mesh.law)) {
+        const size_t n = X_.size(), ne = quads_.size();
+        require(Y_.size() == n && law_of_.size() == ne && ne > 0, "a 2D mesh needs nodes and elements");
+        require(hourglass >= 0, "the hourglass factor must be >= 0");
+        for (auto* v : {&ux_, &uy_, &vx_, &vy_, &ax_, &ay_, &mass_, &wx_, &wy_, &dux_, &duy_})
+            v->assign(n, 0.0);
+        cx_.assign(n, 0);
+        cy_.assign(n, 0);
+        points_.assign(ne, PointState{});
+        gamma_.resize(ne);
+        kx_.resize(ne);
+        ky_.resize(ne);
+        efx_.assign(4 * ne, 0.0);
+        efy_.assign(4 * ne, 0.0);
+        ehg_.assign(ne, 0.0);
+        std::vector<int> count(n + 1, 0);
+        for (size_t e = 0; e < ne; ++e) {
+            const auto& q = quads_[e];
+            require(law_of_[e] >= 0 && law_of_[e] < static_cast<int>(laws_.size()),
+                    "element " + std::to_string(e) + " has no material law");
+            const MaterialLaw& law = *laws_[law_of_[e]];
+            require(law.shear_modulus() > 0,
+                    "material law '" + law.name() + "' is uniaxial and cannot be used in 2D elements");
+            Geometry g = geometry(e, X_.data(), Y_.data(), nullptr, nullptr);
+            if (!(g.area > 0) || !corners_positive(e, X_.data(), Y_.data(), nullptr, nullptr, 0))
+                throw MaterialError("element " + std::to_string(e) +
+                                    " has zero or negative area, or its nodes are not counter-clockwise");
+            if (plane_ == Plane::Axisymmetric)
+                for (int k = 0; k < 4; ++k)
+                    require(X_[q[k]] >= 0, "axisymmetric nodes need r >= 0");
+            const double r = plane_ == Plane::Axisymmetric ? g.rc : 1.0;
+            const double m = law.density() * g.area * r / 4;
+            // Hourglass vectors and stiffnesses from the reference geometry.
+            const double hx = X_[q[0]] - X_[q[1]] + X_[q[2]] - X_[q[3]];
+            const double hy = Y_[q[0]] - Y_[q[1]] + Y_[q[2]] - Y_[q[3]];
+            static constexpr double h[4] = {1, -1, 1, -1};
+            for (int k = 0; k < 4; ++k) {
+                gamma_[e][k] = 0.25 * (h[k] - hx * g.bx[k] - hy * g.by[k]);
+                mass_[q[k]] += m;
+                ++count[q[k] + 1];
+            }
+            const double a = 0.25 * std::hypot(-X_[q[0]] + X_[q[1]] + X_[q[2]] - X_[q[3]],
+                                               -Y_[q[0]] + Y_[q[1]] + Y_[q[2]] - Y_[q[3]]);
+            const double b = 0.25 * std::hypot(-X_[q[0]] - X_[q[1]] + X_[q[2]] + X_[q[3]],
+                                               -Y_[q[0]] - Y_[q[1]] + Y_[q[2]] + Y_[q[3]]);
+            const double G = law.shear_modulus(), lambda = law.wave_modulus() - 2 * G;
+            const double Eb = 4 * G * (lambda + G) / (lambda + 2 * G); // E / (1 − ν²)
+            kx_[e] = hourglass * (4.0 / 3.0) * Eb * b / a * r;
+            ky_[e] = hourglass * (4.0 / 3.0) * Eb * a / b * r;
+        }
+        // Node → (element, corner) incidence for the gather of element forces.
+        for (size_t i = 0; i < n; ++i)
+            count[i + 1] += count[i];
+        incidence_start_ = count;
+        incidence_.assign(4 * ne, 0);
+        for (size_t e = 0; e < ne; ++e)
+            for (int k = 0; k < 4; ++k)
+                incidence_[count[quads_[e][k]]++] = static_cast<int>(4 * e + k);
+        for (size_t i = 0; i < n; ++i)
+            if (!(mass_[i] > 0)) throw MaterialError("node " + std::to_string(i) + " belongs to no element");
+    }
+
+    Plane plane() const { return plane_; }
+    size_t nodes() const { return X_.size(); }
+    size_t element_count() const { return quads_.size(); }
+    double node_x(size_t i) const { return X_[i]; } // reference coordinates
+    double node_y(size_t i) const { return Y_[i]; }
+    const std::array<int, 4>& quad(size_t e) const { return quads_[e]; }
+    int law_of(size_t e) const { return law_of_[e]; }
+    double element_x(size_t e) const { return 0.25 * sum(e, X_.data()); }
+    double element_y(size_t e) const { return 0.25 * sum(e, Y_.data()); }
+    double ux(size_t i) const { return ux_[i]; }
+    double uy(size_t i) const { return uy_[i]; }
+    double vx(size_t i) const { return vx_[i]; } // at the last half step
+    double vy(size_t i) const { return vy_[i]; }
+    double ax(size_t i) const { return ax_[i]; }
+    double ay(size_t i) const { return ay_[i]; }
+    double mass(size_t i) const { return mass_[i]; }
+    const PointState& point(size_t e) const { return points_[e]; }
+    double hourglass_energy(size_t e) const { return ehg_[e]; }
+    double time() const { return time_; }
+    long steps() const { return steps_; }
+    const Energies& energies() const { return en_; }
+
+    // Constrains the x and/or y velocity of a node to its present value (zero unless set_velocity changed
+    // it): fixed nodes, symmetry planes and axes, clamped edges, and prescribed motion in tests.
+    void constrain(size_t i, bool x, bool y) {
+        cx_[i] |= x;
+        cy_[i] |= y;
+    }
+    void set_velocity(size_t i, double vx, double vy) {
+        vx_[i] = vx, vy_[i] = vy;
+        en_.kinetic = kinetic(0);
+    }
+    // Pressure p(t) on boundary edges, each given as (node, next node) in its element's counter-clockwise
+    // order, so that (Δy, −Δx) points out of the body; a positive p pushes into the body.
+    void add_pressure(std::vector<std::array<int, 2>> edges, std::function<double(double)> p) {
+        loads_.push_back({std::move(edges), std::move(p)});
+    }
+
+    // Largest stable step, without safety factor: min over elements of L_e / c_e with L_e the area over the
+    // longest diagonal, which bounds the one-point quadrilateral's dilatational mode for any Poisson ratio.
+    double stable_dt() const {
+        double dt = 1e300;
+        for (size_t e = 0; e < quads_.size(); ++e) {
+            const auto& q = quads_[e];
+            const MaterialLaw& law = *laws_[law_of_[e]];
+            const Geometry g = geometry(e, X_.data(), Y_.data(), ux_.data(), uy_.data());
+            auto d = [&](int i, int j) {
+                return std::hypot(X_[q[i]] + ux_[q[i]] - X_[q[j]] - ux_[q[j]],
+                                  Y_[q[i]] + uy_[q[i]] - Y_[q[j]] - uy_[q[j]]);
+            };
+            const double L = g.area / std::max(d(0, 2), d(1, 3));
+            dt = std::min(dt, L / std::sqrt(law.wave_modulus() / law.density()));
+        }
+        return dt;
+    }
+
+    // One central-difference step, as in the 1D column. The state changes only after every increment is
+    // finite and every element keeps positive corner areas; otherwise StructureFailure leaves it as it was.
+    void step(double dt) {
+        const long n = static_cast<long>(X_.size()), ne = static_cast<long>(quads_.size());
+        if (steps_ == 0) forces(time_);
+        const double h = steps_ == 0 ? 0.5 * dt : 0.5 * (dt + last_dt_);
+        for (long i = 0; i < n; ++i) {
+            dux_[i] = dt * (cx_[i] ? vx_[i] : vx_[i] + h * ax_[i]);
+            duy_[i] = dt * (cy_[i] ? vy_[i] : vy_[i] + h * ay_[i]);
+            if (!std::isfinite(dux_[i]) || !std::isfinite(duy_[i])) {
+                std::ostringstream s;
+                s << "node " << i << " (x = " << X_[i] << ", y = " << Y_[i]
+                  << " m) has a non-finite velocity at t = " << time_ + dt << " s in step " << steps_ + 1;
+                throw StructureFailure(s.str());
+            }
+        }
+        long bad = -1;
+#pragma omp parallel for schedule(static) reduction(max : bad)
+        for (long e = 0; e < ne; ++e)
+            if (!corners_positive(e, X_.data(), Y_.data(), ux_.data(), uy_.data(), 1.0)) bad = std::max(bad, e);
+        if (bad >= 0) {
+            std::ostringstream s;
+            s << "element " << bad << " (material " << law_of_[bad] << ", centre x = " << element_x(bad)
+              << ", y = " << element_y(bad) << " m) inverted at t = " << time_ + dt << " s in step "
+              << steps_ + 1;
+            throw StructureFailure(s.str());
+        }
+        for (long i = 0; i < n; ++i) {
+            vx_[i] = dux_[i] / dt;
+            vy_[i] = duy_[i] / dt;
+        }
+        double work = 0;
+        for (long i = 0; i < n; ++i)
+            work += wx_[i] * dux_[i] + wy_[i] * duy_[i];
+        // Element updates at the mid-step configuration.
+        double internal = 0, plastic = 0;
+        const bool axi = plane_ == Plane::Axisymmetric;
+#pragma omp parallel for schedule(static) reduction(+ : internal, plastic)
+        for (long e = 0; e < ne; ++e) {
+            const auto& q = quads_[e];
+            double xm[4], ym[4], dx[4], dy[4];
+            for (int k = 0; k < 4; ++k) {
+                dx[k] = dux_[q[k]], dy[k] = duy_[q[k]];
+                xm[k] = X_[q[k]] + ux_[q[k]] + 0.5 * dx[k];
+                ym[k] = Y_[q[k]] + uy_[q[k]] + 0.5 * dy[k];
+            }
+            const Shape s = shape(xm, ym);
+            double exx = 0, eyy = 0, gxy = 0, w = 0;
+            for (int k = 0; k < 4; ++k) {
+                exx += s.bx[k] * dx[k];
+                eyy += s.by[k] * dy[k];
+                gxy += s.by[k] * dx[k] + s.bx[k] * dy[k];
+                w += 0.5 * (s.bx[k] * dy[k] - s.by[k] * dx[k]);
+            }
+            const double rc = 0.25 * (xm[0] + xm[1] + xm[2] + xm[3]);
+            const double ezz = axi ? 0.25 * (dx[0] + dx[1] + dx[2] + dx[3]) / rc : 0.0;
+            PointState& p = points_[e];
+            rotate(p.stress, w);
+            const Voigt s0 = p.stress;
+            const double wp0 = p.plastic_work;
+            const Voigt de = {exx, eyy, ezz, gxy, 0, 0};
+            laws_[law_of_[e]]->update(de, dt, p);
+            double dw = 0;
+            for (int k = 0; k < 4; ++k)
+                dw += 0.5 * (s0[k] + p.stress[k]) * de[k];
+            const double V = s.area * (axi ? rc : 1.0);
+            internal += dw * V;
+            plastic += (p.plastic_work - wp0) * V;
+        }
+        en_.internal += internal;
+        en_.plastic += plastic;
+        for (long i = 0; i < n; ++i) {
+            ux_[i] += dux_[i];
+            uy_[i] += duy_[i];
+        }
+        time_ += dt;
+        last_dt_ = dt;
+        ++steps_;
+        forces(time_);
+        for (long i = 0; i < n; ++i)
+            work += wx_[i] * dux_[i] + wy_[i] * duy_[i];
+        en_.external += 0.5 * work;
+        en_.kinetic = kinetic(dt);
+    }
+
+  private:
+    struct Shape {
+        double area, bx[4], by[4];
+    };
+    struct Geometry : Shape {
+        double rc;
+    };
+    struct Load {
+        std::vector<std::array<int, 2>> edges;
+        std::function<double(double)> p;
+    };
+    Plane plane_;
+    std::vector<std::shared_ptr<const MaterialLaw>> laws_;
+    std::vector<double> X_, Y_;
+    std::vector<std::array<int, 4>> quads_;
+    std::vector<int> law_of_;
+    std::vector<double> ux_, uy_, vx_, vy_, ax_, ay_, mass_;
+    std::vector<double> wx_, wy_;   // external force on each node: loads and reactions of constraints
+    std::vector<double> dux_, duy_; // the increments of the current step
+    std::vector<char> cx_, cy_;
+    std::vector<PointState> points_;
+    std::vector<std::array<double, 4>> gamma_;
+    std::vector<double> kx_, ky_, efx_, efy_, ehg_;
+    std::vector<int> incidence_start_, incidence_;
+    std::vector<Load> loads_;
+    Energies en_;
+    double time_ = 0, last_dt_ = 0;
+    long steps_ = 0;
+
+    double sum(size_t e, const double* v) const {
+        const auto& q = quads_[e];
+        return v[q[0]] + v[q[1]] + v[q[2]] + v[q[3]];
+    }
+
+    // Area and uniform-gradient matrix of a quadrilateral (Flanagan–Belytschko).
+    static Shape shape(const double* x, const double* y) {
+        Shape s;
+        s.area = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
+        const double f = 0.5 / s.area;
+        s.bx[0] = f * (y[1] - y[3]), s.bx[1] = f * (y[2] - y[0]), s.bx[2] = f * (y[3] - y[1]),
+        s.bx[3] = f * (y[0] - y[2]);
+        s.by[0] = f * (x[3] - x[1]), s.by[1] = f * (x[0] - x[2]), s.by[2] = f * (x[1] - x[3]),
+        s.by[3] = f * (x[2] - x[0]);
+        return s;
+    }
+    // Geometry of element e at X + u (u may be null).
+    Geometry geometry(size_t e, const double* X, const double* Y, const double* ux, const double* uy) const {
+        const auto& q = quads_[e];
+        double x[4], y[4];
+        for (int k = 0; k < 4; ++k) {
+            x[k] = X[q[k]] + (ux ? ux[q[k]] : 0.0);
+            y[k] = Y[q[k]] + (uy ? uy[q[k]] : 0.0);
+        }
+        Geometry g;
+        static_cast<Shape&>(g) = shape(x, y);
+        g.rc = 0.25 * (x[0] + x[1] + x[2] + x[3]);
+        return g;
+    }
+    // Whether the four corner areas of element e at X + u + f·du are positive (a convex, unfolded quad).
+    bool corners_positive(long e, const double* X, const double* Y, const double* ux, const double* uy,
+                          double f) const {
+        const auto& q = quads_[e];
+        double x[4], y[4];
+        for (int k = 0; k < 4; ++k) {
+            x[k] = X[q[k]] + (ux ? ux[q[k]] + f * dux_[q[k]] : 0.0);
+            y[k] = Y[q[k]] + (uy ? uy[q[k]] + f * duy_[q[k]] : 0.0);
+        }
+        for (int k = 0; k < 4; ++k) {
+            const int a = (k + 1) % 4, b = (k + 3) % 4;
+            if (!((x[a] - x[k]) * (y[b] - y[k]) - (y[a] - y[k]) * (x[b] - x[k]) > 0)) return false;
+        }
+        return true;
+    }
+    // Rotates the in-plane stress by the angle w (counter-clockwise).
+    static void rotate(Voigt& s, double w) {
+        if (w == 0) return;
+        const double c = std::cos(w), n = std::sin(w);
+        const double xx = s[0], yy = s[1], xy = s[3];
+        s[0] = c * c * xx + n * n * yy - 2 * c * n * xy;
+        s[1] = n * n * xx + c * c * yy + 2 * c * n * xy;
+        s[3] = c * n * (xx - yy) + (c * c - n * n) * xy;
+    }
+
+    // Internal, hourglass and applied forces at the present configuration; accelerations; the external
+    // force (loads and reactions) on every node for the work of the next step.
+    void forces(double t) {
+        const long n = static_cast<long>(X_.size()), ne = static_cast<long>(quads_.size());
+        const bool axi = plane_ == Plane::Axisymmetric;
+        double hourglass = 0;
+#pragma omp parallel for schedule(static) reduction(+ : hourglass)
+        for (long e = 0; e < ne; ++e) {
+            const auto& q = quads_[e];
+            double x[4], y[4];
+            for (int k = 0; k < 4; ++k)
+                x[k] = X_[q[k]] + ux_[q[k]], y[k] = Y_[q[k]] + uy_[q[k]];
+            const Shape s = shape(x, y);
+            const double rc = 0.25 * (x[0] + x[1] + x[2] + x[3]);
+            const double V = s.area * (axi ? rc : 1.0);
+            const Voigt& sig = points_[e].stress;
+            const double hoop = axi ? 0.25 * s.area * sig[2] : 0.0;
+            const auto& g = gamma_[e];
+            double qx = 0, qy = 0;
+            for (int k = 0; k < 4; ++k)
+                qx += g[k] * ux_[q[k]], qy += g[k] * uy_[q[k]];
+            for (int k = 0; k < 4; ++k) {
+                efx_[4 * e + k] = -V * (s.bx[k] * sig[0] + s.by[k] * sig[3]) - hoop - kx_[e] * qx * g[k];
+                efy_[4 * e + k] = -V * (s.bx[k] * sig[3] + s.by[k] * sig[1]) - ky_[e] * qy * g[k];
+            }
+            ehg_[e] = 0.5 * (kx_[e] * qx * qx + ky_[e] * qy * qy);
+            hourglass += ehg_[e];
+        }
+        en_.hourglass = hourglass;
+        std::fill(wx_.begin(), wx_.end(), 0.0);
+        std::fill(wy_.begin(), wy_.end(), 0.0);
+        for (const auto& load : loads_) {
+            const double p = load.p(t);
+            for (const auto& edge : load.edges) {
+                const int i = edge[0], j = edge[1];
+                const double xi = X_[i] + ux_[i], xj = X_[j] + ux_[j];
+                const double fx = -p * (Y_[j] + uy_[j] - Y_[i] - uy_[i]), fy = p * (xj - xi);
+                const double si = axi ? (2 * xi + xj) / 6 : 0.5, sj = axi ? (xi + 2 * xj) / 6 : 0.5;
+                wx_[i] += fx * si, wy_[i] += fy * si;
+                wx_[j] += fx * sj, wy_[j] += fy * sj;
+            }
+        }
+#pragma omp parallel for schedule(static)
+        for (long i = 0; i < n; ++i) {
+            double fx = 0, fy = 0;
+            for (int k = incidence_start_[i]; k < incidence_start_[i + 1]; ++k)
+                fx += efx_[incidence_[k]], fy += efy_[incidence_[k]];
+            // A constrained component has no acceleration: its reaction cancels the other forces.
+            if (cx_[i])
+                ax_[i] = 0, wx_[i] = -fx;
+            else
+                ax_[i] = (fx + wx_[i]) / mass_[i];
+            if (cy_[i])
+                ay_[i] = 0, wy_[i] = -fy;
+            else
+                ay_[i] = (fy + wy_[i]) / mass_[i];
+        }
+    }
+
+    // Kinetic energy at the integer step from the half-step velocity and the new acceleration.
+    double kinetic(double dt) const {
+        double k = 0;
+        for (size_t i = 0; i < X_.size(); ++i) {
+            const double vx = vx_[i] + 0.5 * dt * ax_[i], vy = vy_[i] + 0.5 * dt * ay_[i];
+            k += 0.5 * mass_[i] * (vx * vx + vy * vy);
+        }
+        return k;
+    }
+};
+
+} // namespace undex::solid
