@@ -38,15 +38,24 @@ void write_attr_long(hid_t obj, const char* name, long value) {
     write_scalar(obj, name, value, H5T_NATIVE_LONG, H5T_STD_I64LE);
 }
 
-void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const double* data) {
+namespace {
+void write_typed(hid_t loc, const char* name, const std::vector<hsize_t>& dims, hid_t file_type,
+                 hid_t mem_type, const void* data) {
     if (H5Lexists(loc, name, H5P_DEFAULT) > 0) H5Ldelete(loc, name, H5P_DEFAULT);
     hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
-    hid_t set = H5Dcreate2(loc, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t set = H5Dcreate2(loc, name, file_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     if (set < 0) throw std::runtime_error(std::string("HDF5: cannot create dataset ") + name);
-    check(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
-          std::string("write ") + name);
+    check(H5Dwrite(set, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), std::string("write ") + name);
     H5Dclose(set);
     H5Sclose(space);
+}
+} // namespace
+
+void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const double* data) {
+    write_typed(loc, name, dims, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, data);
+}
+void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const int* data) {
+    write_typed(loc, name, dims, H5T_STD_I32LE, H5T_NATIVE_INT, data);
 }
 
 std::string read_attr_string(hid_t obj, const char* name) {

@@ -19,6 +19,7 @@ template <class T> void write_attr(hid_t obj, const char* name, T value) {
         write_attr_long(obj, name, static_cast<long>(value));
 }
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const double* data);
+void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const int* data);
 std::string read_attr_string(hid_t obj, const char* name);
 double read_attr_double(hid_t obj, const char* name);
 std::vector<double> read_dataset(hid_t loc, const std::string& name);

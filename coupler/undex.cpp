@@ -6,6 +6,7 @@
 //   undex options                              list the named choices of a case file
 #include "case.pb.h"
 #include "case_file.hpp"
+#include "h5.hpp"
 #include "output.hpp"
 #include "setup.hpp"
 #include "structure_setup.hpp"
@@ -91,7 +92,11 @@ int check(const Args& a) {
     if (parts.structure) {
         const auto s = undex::solid::make_structure(c);
         std::cout << a.positional[0] << ": ok: structure of " << m.structure().layers_size() << " layer(s), "
-                  << s.column->element_count() << " elements, time step " << s.dt << " s";
+                  << (s.plate ? s.plate->element_count() : s.column->element_count()) << " elements"
+                  << (s.plate ? (s.plate->plane() == undex::solid::Plane::Axisymmetric ? " (axisymmetric)"
+                                                                                       : " (plane strain)")
+                              : "")
+                  << ", time step " << s.dt << " s";
         if (!parts.fluid) {
             std::cout << ", end time " << m.end_time() << " s\n";
             return 0;
@@ -209,9 +214,17 @@ int gauges(const Args& a) {
     }
     if (names.empty()) throw std::runtime_error(h5 + ": the case has no gauges");
     const bool solid = std::filesystem::path(h5).filename() == "solid.h5";
-    const std::vector<std::string> columns =
-        solid ? std::vector<std::string>{"t", "u", "v", "a", "stress_xx", "peeq"}
-              : std::vector<std::string>{"t", "rho", "u", "v", "p"};
+    std::vector<std::string> columns = {"t", "rho", "u", "v", "p"};
+    if (solid) { // the structure output lists its gauge columns
+        columns.clear();
+        hid_t f = undex::h5::open_read(h5);
+        hid_t g = H5Gopen2(f, "gauges", H5P_DEFAULT);
+        std::stringstream list(undex::h5::read_attr_string(g, "columns"));
+        H5Gclose(g);
+        H5Fclose(f);
+        for (std::string c; std::getline(list, c, ',');)
+            columns.push_back(c);
+    }
     std::vector<std::vector<std::vector<double>>> cols;
     for (const auto& n : names)
         cols.push_back(undex::fluid::read_gauge(h5, n, columns));

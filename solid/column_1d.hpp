@@ -109,8 +109,8 @@ class Column1D {
             du[i] = dt * v[i];
             if (!std::isfinite(du[i])) {
                 std::ostringstream s;
-                s << "node " << i << " (x = " << x_[i] << " m) has a non-finite velocity at t = " << time_ + dt
-                  << " s in step " << steps_ + 1;
+                s << "node " << i << " (x = " << x_[i]
+                  << " m) has a non-finite velocity at t = " << time_ + dt << " s in step " << steps_ + 1;
                 throw StructureFailure(s.str());
             }
         }

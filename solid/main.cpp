@@ -1,6 +1,6 @@
 // undex-solid CASE [--set key=value]...: runs the structure solver on a structure-only case.
 #include "case_file.hpp"
-#include "run_column.hpp"
+#include "run_structure.hpp"
 
 #include <cstring>
 #include <iostream>
@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
     }
     try {
         const auto c = undex::CaseFile::load(path, overrides);
-        return undex::solid::run_column(c, std::cout);
+        return undex::solid::run_structure(c, std::cout);
     } catch (const undex::CaseError& e) {
         std::cerr << "undex-solid: error: " << e.what() << "\n";
         return 1;

@@ -215,7 +215,8 @@ class Plate2D {
         long bad = -1;
 #pragma omp parallel for schedule(static) reduction(max : bad)
         for (long e = 0; e < ne; ++e)
-            if (!corners_positive(e, X_.data(), Y_.data(), ux_.data(), uy_.data(), 1.0)) bad = std::max(bad, e);
+            if (!corners_positive(e, X_.data(), Y_.data(), ux_.data(), uy_.data(), 1.0))
+                bad = std::max(bad, e);
         if (bad >= 0) {
             std::ostringstream s;
             s << "element " << bad << " (material " << law_of_[bad] << ", centre x = " << element_x(bad)

@@ -86,13 +86,59 @@ void check_face(const CaseFile& cf, const cfg::SolidFace& f, const std::string& 
 
 } // namespace
 
+namespace {
+
+void check_edge(const CaseFile& cf, const cfg::SolidEdge& e, const std::string& path) {
+    if (e.type() == cfg::SolidEdge::TYPE_UNSET) cf.fail(path + ".type", "edge type is not set");
+}
+
+// Face and edge conditions and loads of a 2D plate.
+void apply_plate_conditions(const cfg::Structure& st, StructureModel& m) {
+    Plate2D& plate = *m.plate;
+    const LayeredPlate& lp = m.layout;
+    for (int side = 0; side < 2; ++side) {
+        const auto& f = side == 0 ? st.front() : st.back();
+        const int j = side == 0 ? 0 : lp.ny;
+        if (f.type() == cfg::SolidFace::FIXED)
+            for (int i = 0; i <= lp.nx; ++i)
+                plate.constrain(lp.node(i, j), true, true);
+        if (f.type() == cfg::SolidFace::PRESSURE) {
+            // Edges in their element's counter-clockwise order: left to right on the front, right to left on
+            // the back.
+            std::vector<std::array<int, 2>> edges;
+            for (int i = 0; i < lp.nx; ++i)
+                edges.push_back(side == 0 ? std::array<int, 2>{lp.node(i, j), lp.node(i + 1, j)}
+                                          : std::array<int, 2>{lp.node(i + 1, j), lp.node(i, j)});
+            plate.add_pressure(edges, fluid::pressure_history(f.pressure()));
+        }
+    }
+    for (int side = 0; side < 2; ++side) {
+        const auto type = (side == 0 ? st.plate().left() : st.plate().right()).type();
+        const int i = side == 0 ? 0 : lp.nx;
+        for (int j = 0; j <= lp.ny; ++j) {
+            if (type == cfg::SolidEdge::CLAMPED) plate.constrain(lp.node(i, j), true, true);
+            if (type == cfg::SolidEdge::SYMMETRY) plate.constrain(lp.node(i, j), true, false);
+        }
+    }
+}
+
+} // namespace
+
 StructureModel make_structure(const CaseFile& cf) {
     const auto& c = cf.get();
     if (!c.has_structure()) cf.fail("structure", "the case has no structure");
     const auto& st = c.structure();
-    if (c.geometry() != cfg::PLANAR_1D)
+    const bool two_d = c.geometry() == cfg::PLANAR_2D || c.geometry() == cfg::AXISYMMETRIC_2D;
+    const bool axi = c.geometry() == cfg::AXISYMMETRIC_2D;
+    if (!two_d && c.geometry() != cfg::PLANAR_1D)
         cf.fail("geometry",
-                "a structure is a 1D layered column (PLANAR_1D) in this version; 2D plates come later");
+                "a structure is a 1D column (PLANAR_1D) or a 2D plate (PLANAR_2D, AXISYMMETRIC_2D)");
+    if (two_d && !st.has_plate())
+        cf.fail("structure.plate", "a 2D structure needs 'plate' (x_min, span, element_size, left, right)");
+    if (!two_d && st.has_plate()) cf.fail("structure.plate", "a 1D column (PLANAR_1D) has no plate");
+    if (two_d && st.has_kinematics())
+        cf.fail("structure.kinematics", "kinematics applies to 1D columns only; 2D plates are "
+                                        "plane strain (PLANAR_2D) or axisymmetric (AXISYMMETRIC_2D)");
     // Materials.
     std::map<std::string, std::shared_ptr<const MaterialLaw>> laws;
     for (int m = 0; m < st.materials_size(); ++m) {
@@ -130,6 +176,11 @@ StructureModel make_structure(const CaseFile& cf) {
         layer.thickness = L.thickness();
         layer.elements = std::max(1, static_cast<int>(std::lround(L.thickness() / L.element_size())));
         layer.uniaxial_law = law->second->name() == "foam_1d";
+        if (two_d && layer.uniaxial_law)
+            cf.fail(path + ".material",
+                    "material '" + L.material() +
+                        "' is a uniaxial foam_1d law, for 1D columns only; 2D plates need "
+                        "elastic, johnson_cook or deshpande_fleck");
         layers.push_back(layer);
     }
     check_face(cf, st.front(), "structure.front");
@@ -147,30 +198,79 @@ StructureModel make_structure(const CaseFile& cf) {
     if (!fluid::writable_directory(plan.directory))
         cf.fail("output.directory", "cannot write the output directory '" + plan.directory + "'");
 
+    if (!(st.hourglass() >= 0)) cf.fail("structure.hourglass", "hourglass factor must be >= 0");
+    if (st.threads() < 0) cf.fail("structure.threads", "must be >= 0");
     double total = 0;
     for (const auto& L : st.layers())
         total += L.thickness();
+    double x_min = 0, span = 0;
+    if (two_d) {
+        const auto& pl = st.plate();
+        x_min = pl.x_min(), span = pl.span();
+        if (!(pl.span() > 0)) cf.fail("structure.plate.span", "span must be positive");
+        if (!(pl.element_size() > 0))
+            cf.fail("structure.plate.element_size",
+                    "element size must be positive (got " + gfmt(pl.element_size()) + " m)");
+        if (pl.span() < pl.element_size() * (1 - 1e-12))
+            cf.fail("structure.plate.span", "the span (" + gfmt(pl.span()) +
+                                                " m) is shorter than one element (" +
+                                                gfmt(pl.element_size()) + " m)");
+        check_edge(cf, pl.left(), "structure.plate.left");
+        check_edge(cf, pl.right(), "structure.plate.right");
+        if (axi && !(pl.x_min() >= 0))
+            cf.fail("structure.plate.x_min", "an axisymmetric plate needs x_min = r >= 0");
+        if (axi && pl.x_min() == 0 && pl.left().type() != cfg::SolidEdge::SYMMETRY)
+            cf.fail("structure.plate.left.type",
+                    "an axisymmetric plate from r = 0 needs SYMMETRY (the axis) there");
+    }
     for (int k = 0; k < st.gauges_size(); ++k) {
         const auto& g = st.gauges(k);
         const std::string path = "structure.gauges[" + std::to_string(k) + "]";
         for (int j = 0; j < k; ++j)
             if (st.gauges(j).name() == g.name())
                 cf.fail(path + ".name", "gauge '" + g.name() + "' is defined twice");
-        if (!(g.x() >= 0 && g.x() <= total))
-            cf.fail(path + ".x", "gauge lies outside the structure (0 to " + gfmt(total) + " m)");
+        const double depth = two_d ? g.y() : g.x();
+        if (!(depth >= 0 && depth <= total))
+            cf.fail(path + (two_d ? ".y" : ".x"),
+                    "gauge lies outside the structure (depth 0 to " + gfmt(total) + " m)");
+        if (two_d && !(g.x() >= x_min && g.x() <= x_min + span))
+            cf.fail(path + ".x", "gauge lies outside the plate (x from " + gfmt(x_min) + " to " +
+                                     gfmt(x_min + span) + " m)");
+        if (!two_d && g.has_y()) cf.fail(path + ".y", "a gauge of a 1D column has only the depth x");
     }
 
     StructureModel model;
-    model.column = std::make_unique<Column1D>(layers, st.kinematics() == "uniaxial_strain"
-                                                          ? Kinematics1D::UniaxialStrain
-                                                          : Kinematics1D::UniaxialStress);
-    for (int side = 0; side < 2; ++side) {
-        const auto& f = side == 0 ? st.front() : st.back();
-        if (f.type() == cfg::SolidFace::FIXED) model.column->set_face(side, Face1D::Fixed);
-        if (f.type() == cfg::SolidFace::PRESSURE)
-            model.column->set_pressure(side, fluid::pressure_history(f.pressure()));
+    model.threads = st.threads();
+    for (const auto& L : st.layers())
+        model.layers.push_back(L.material());
+    double stable = 0;
+    if (two_d) {
+        std::vector<double> thickness;
+        std::vector<int> rows;
+        std::vector<std::shared_ptr<const MaterialLaw>> per_layer;
+        for (const auto& L : layers) {
+            thickness.push_back(L.thickness);
+            rows.push_back(L.elements);
+            per_layer.push_back(L.law);
+        }
+        const int nx = std::max(1, static_cast<int>(std::lround(span / st.plate().element_size())));
+        model.layout = layered_plate(x_min, span, nx, thickness, rows);
+        model.plate = std::make_unique<Plate2D>(model.layout.mesh, per_layer,
+                                                axi ? Plane::Axisymmetric : Plane::Strain, st.hourglass());
+        apply_plate_conditions(st, model);
+        stable = model.plate->stable_dt();
+    } else {
+        model.column = std::make_unique<Column1D>(layers, st.kinematics() == "uniaxial_strain"
+                                                              ? Kinematics1D::UniaxialStrain
+                                                              : Kinematics1D::UniaxialStress);
+        for (int side = 0; side < 2; ++side) {
+            const auto& f = side == 0 ? st.front() : st.back();
+            if (f.type() == cfg::SolidFace::FIXED) model.column->set_face(side, Face1D::Fixed);
+            if (f.type() == cfg::SolidFace::PRESSURE)
+                model.column->set_pressure(side, fluid::pressure_history(f.pressure()));
+        }
+        stable = model.column->stable_dt();
     }
-    const double stable = model.column->stable_dt();
     model.dt = st.safety() * stable;
     if (st.has_dt()) {
         if (!(st.dt() > 0)) cf.fail("structure.dt", "time step must be positive");

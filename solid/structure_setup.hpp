@@ -1,6 +1,7 @@
 // From a case file to a structure model: the whole structure part of the case is checked first.
 #pragma once
 #include "column_1d.hpp"
+#include "plate_2d.hpp"
 
 #include <memory>
 #include <utility>
@@ -16,13 +17,18 @@ namespace undex::solid {
 bool has_fluid(const CaseFile& c);
 bool has_structure(const CaseFile& c);
 
+// The structure of a case: a 1D column (PLANAR_1D) or a 2D layered plate (PLANAR_2D, AXISYMMETRIC_2D).
 struct StructureModel {
     std::unique_ptr<Column1D> column;
-    double dt = 0; // the time step: the forced one, or safety × the stable one
+    std::unique_ptr<Plate2D> plate;
+    LayeredPlate layout;             // the plate's structured mesh; the law of an element is its layer
+    std::vector<std::string> layers; // material name of each layer
+    double dt = 0;                   // the time step: the forced one, or safety × the stable one
+    int threads = 0;                 // structure.threads
 };
 
-// Checks every structure part of the case and builds the column; throws CaseError naming the field and
-// line (a material without a required constant, an element of zero or negative size, a layer thinner than
+// Checks every structure part of the case and builds the column or plate; throws CaseError naming the field
+// and line (a material without a required constant, an element of zero or negative size, a layer thinner than
 // one element, a forced time step above the stable one, ...).
 StructureModel make_structure(const CaseFile& c);
 

@@ -61,8 +61,8 @@ TEST(Plate2D, PatchTestUniformStrainOnADistortedMesh) {
     for (size_t e = 1; e < plate.element_count(); ++e)
         for (int k = 0; k < 4; ++k)
             serr = std::max(serr, std::abs(plate.point(e).stress[k] - s0[k]));
-    std::printf("patch: interior displacement error %.2e of %.2e m; stress spread %.2e Pa of %.3e Pa\n",
-                err, umax, serr, std::abs(s0[0]));
+    std::printf("patch: interior displacement error %.2e of %.2e m; stress spread %.2e Pa of %.3e Pa\n", err,
+                umax, serr, std::abs(s0[0]));
     EXPECT_LT(err, 1e-9 * umax);
     EXPECT_LT(serr, 1e-9 * std::abs(s0[0]));
     for (size_t e = 0; e < plate.element_count(); ++e)
@@ -103,7 +103,8 @@ PlateRun clamped_plate(int nt, double hourglass = 1.0) {
     std::vector<std::array<int, 2>> front;
     for (int i = 0; i < nr; ++i)
         front.push_back({lp.node(i, 0), lp.node(i + 1, 0)});
-    plate.add_pressure(front, [=](double t) { return t < ramp ? 0.5 * q * (1 - std::cos(M_PI * t / ramp)) : q; });
+    plate.add_pressure(front,
+                       [=](double t) { return t < ramp ? 0.5 * q * (1 - std::cos(M_PI * t / ramp)) : q; });
     const double dt = 0.9 * plate.stable_dt();
     const int centre = lp.node(0, nt / 2);
     double sum = 0, time = 0, hg = 0;
@@ -154,4 +155,182 @@ TEST(Plate2D, ClampedCircularPlateConvergesToThePlateSolution) {
     EXPECT_GT(e2 / e4, 3.0);
     EXPECT_LT(std::abs(extrapolated / w0 - 1), 0.01);
     EXPECT_LT(e4, 0.03);
+}
+
+namespace {
+
+struct Peak {
+    double time, value;
+};
+
+// Time of the extreme of a sampled series in [t0, t1] (parabola through the extreme sample and its
+// neighbours).
+Peak extreme(const std::vector<double>& t, const std::vector<double>& s, bool maximum, double t0, double t1) {
+    size_t best = 0;
+    bool found = false;
+    for (size_t k = 1; k + 1 < s.size(); ++k)
+        if (t[k] >= t0 && t[k] <= t1 && (!found || (maximum ? s[k] > s[best] : s[k] < s[best])))
+            best = k, found = true;
+    const double a = s[best - 1], b = s[best], c = s[best + 1], den = a - 2 * b + c;
+    const double off = den != 0 ? 0.5 * (a - c) / den : 0.0;
+    return {t[best] + off * (t[best + 1] - t[best - 1]) / 2, b - 0.25 * (a - c) * off};
+}
+
+// A plane-strain slab 1 m thick (y) and two elements wide, both side edges on symmetry planes (u_x = 0),
+// so that a sin² pressure pulse on the front face travels as a plane wave in uniaxial strain; the back face
+// is free or fixed. Returns σ_yy at y = 0.25 and 0.5 m.
+struct Slab {
+    std::vector<double> t, s25, s50;
+};
+Slab run_slab(bool fixed_back, double t_end, double& c) {
+    const int ny = 1000;
+    LayeredPlate lp = layered_plate(0, 0.002, 2, {1.0}, {ny});
+    Plate2D plate(lp.mesh, {steel()}, Plane::Strain);
+    for (int j = 0; j <= ny; ++j) {
+        plate.constrain(lp.node(0, j), true, false);
+        plate.constrain(lp.node(2, j), true, false);
+    }
+    if (fixed_back)
+        for (int i = 0; i <= 2; ++i)
+            plate.constrain(lp.node(i, ny), true, true);
+    const double G = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+    c = std::sqrt((lambda + 2 * G) / rho);
+    const double P = 1e8, tau = 40 * 1e-3 / c;
+    plate.add_pressure({{lp.node(0, 0), lp.node(1, 0)}, {lp.node(1, 0), lp.node(2, 0)}},
+                       [=](double t) { return t < tau ? P * std::pow(std::sin(M_PI * t / tau), 2) : 0.0; });
+    Slab r;
+    const double dt = 0.9 * plate.stable_dt();
+    while (plate.time() < t_end) {
+        plate.step(dt);
+        r.t.push_back(plate.time());
+        r.s25.push_back(plate.point(lp.element(0, 249)).stress[1]);
+        r.s50.push_back(plate.point(lp.element(0, 499)).stress[1]);
+    }
+    return r;
+}
+
+} // namespace
+
+// Plane-strain slab: the pulse travels at c = sqrt((λ + 2μ)/ρ) (bound 0.5 %, as for the 1D column: 40
+// elements per pulse) with the applied amplitude (2 %), and comes back from a free back face as tension and
+// from a fixed one as compression, with the incident amplitude (3 %).
+TEST(Plate2D, PlaneStrainSlabWaveSpeedAndReflections) {
+    double c = 0;
+    const Slab free = run_slab(false, 1.7 / 5900, c);
+    const Peak p25 = extreme(free.t, free.s25, false, 0, 0.45 / c),
+               p50 = extreme(free.t, free.s50, false, 0, 0.7 / c);
+    const double measured = 0.25 / (p50.time - p25.time);
+    const Peak back_free = extreme(free.t, free.s50, true, 1.2 / c, 1.7 / c);
+    const Slab fixed = run_slab(true, 1.7 / 5900, c);
+    const Peak back_fixed = extreme(fixed.t, fixed.s50, false, 1.2 / c, 1.7 / c);
+    std::printf(
+        "plane strain: wave speed %.2f m/s (exact %.2f), incident %.4e Pa, reflected from a free face "
+        "%.4e Pa, from a fixed face %.4e Pa\n",
+        measured, c, p50.value, back_free.value, back_fixed.value);
+    EXPECT_NEAR(measured, c, 0.005 * c);
+    EXPECT_NEAR(p50.value, -1e8, 0.02e8);
+    EXPECT_NEAR(back_free.value, 1e8, 0.03e8);
+    EXPECT_NEAR(back_fixed.value, -1e8, 0.03e8);
+}
+
+// Free vibration: the clamped plate of the convergence test (2 elements through the thickness) released
+// with the velocity profile of its first mode shape (approximately, (1 − r²)²) and no load keeps its
+// total energy over 5 periods. Bound 1e-4: central differences conserve a modified energy; the kinetic
+// energy at integer steps differs from it by O((ωΔt)²), about 1e-7 for the plate modes, larger for the
+// excited high-frequency modes.
+TEST(Plate2D, ElasticFreeVibrationConservesEnergy) {
+    const double a = 1.0, h = 0.025;
+    const int nt = 2, nr = 80;
+    LayeredPlate lp = layered_plate(0, a, nr, {h}, {nt});
+    Plate2D plate(lp.mesh, {steel()}, Plane::Axisymmetric);
+    for (int j = 0; j <= lp.ny; ++j) {
+        plate.constrain(lp.node(0, j), true, false);
+        plate.constrain(lp.node(nr, j), true, true);
+    }
+    for (size_t i = 0; i < plate.nodes(); ++i) {
+        const double r = plate.node_x(i) / a;
+        if (r < 1) plate.set_velocity(i, 0, std::pow(1 - r * r, 2));
+    }
+    const double e0 = plate.energies().kinetic;
+    const double D = E * h * h * h / (12 * (1 - nu * nu));
+    const double period = 2 * M_PI / (10.2158 / (a * a) * std::sqrt(D / (rho * h)));
+    const double dt = 0.9 * plate.stable_dt();
+    double drift = 0;
+    while (plate.time() < 5 * period) {
+        plate.step(dt);
+        const auto& en = plate.energies();
+        drift = std::max(drift, std::abs(en.kinetic + en.internal + en.hourglass - e0) / e0);
+    }
+    std::printf("free vibration: largest energy drift %.2e over 5 periods (%ld steps)\n", drift,
+                plate.steps());
+    EXPECT_LT(drift, 1e-4);
+}
+
+// Plastic run: a Johnson–Cook plate (a = 0.25 m, h = 0.025 m, clamped, axisymmetric) under an exponential
+// pressure pulse of 2e8 Pa, θ = 50 µs, applied suddenly, yields and deflects permanently (PEEQ > 0.001).
+// The balance kinetic + internal + hourglass = external must close, at every step, to 1e-3 of the final
+// external work at 0.9 of the stable step; the error is the O(Δt²) error of central differences (kinetic
+// energy at integer steps, trapezoidal work of the sudden load), so halving Δt must cut it at least 3×.
+struct PlasticRun {
+    double worst = 0, hourglass_share = 0, peeq = 0;
+};
+PlasticRun plastic_plate(double safety) {
+    JohnsonCook::Constants jc;
+    jc.rho = rho, jc.E = E, jc.nu = nu, jc.A = 950e6, jc.B = 560e6, jc.n = 0.26, jc.C = 0.014;
+    const double a = 0.25, h = 0.025;
+    const int nt = 4, nr = 40;
+    LayeredPlate lp = layered_plate(0, a, nr, {h}, {nt});
+    Plate2D plate(lp.mesh, {std::make_shared<JohnsonCook>(jc)}, Plane::Axisymmetric);
+    for (int j = 0; j <= lp.ny; ++j) {
+        plate.constrain(lp.node(0, j), true, false);
+        plate.constrain(lp.node(nr, j), true, true);
+    }
+    std::vector<std::array<int, 2>> front;
+    for (int i = 0; i < nr; ++i)
+        front.push_back({lp.node(i, 0), lp.node(i + 1, 0)});
+    plate.add_pressure(front, [](double t) { return 2e8 * std::exp(-t / 50e-6); });
+    const double dt = safety * plate.stable_dt();
+    PlasticRun r;
+    double worst = 0;
+    while (plate.time() < 1e-3) {
+        plate.step(dt);
+        const auto& en = plate.energies();
+        worst = std::max(worst, std::abs(en.balance_error()));
+        r.hourglass_share = std::max(r.hourglass_share, en.hourglass / en.internal);
+    }
+    for (size_t e = 0; e < plate.element_count(); ++e)
+        r.peeq = std::max(r.peeq, plate.point(e).peeq);
+    const auto& en = plate.energies();
+    r.worst = worst / en.external;
+    std::printf("plastic plate, safety %.2f: external %.4e J/rad, plastic %.4e, kinetic %.4e, hourglass %.4e "
+                "(largest share %.4f), largest balance error %.2e, PEEQ %.4f, centre deflection %.4e m\n",
+                safety, en.external, en.plastic, en.kinetic, en.hourglass, r.hourglass_share, r.worst, r.peeq,
+                plate.uy(lp.node(0, 2)));
+    return r;
+}
+
+TEST(Plate2D, PlasticPlateClosesTheEnergyBalance) {
+    const PlasticRun r = plastic_plate(0.9), fine = plastic_plate(0.45);
+    EXPECT_GT(r.peeq, 0.001);
+    EXPECT_LT(r.worst, 1e-3);
+    EXPECT_GT(r.worst / fine.worst, 3.0);
+    EXPECT_LT(r.hourglass_share, 1.5 / 16);
+}
+
+// An element pulled inside out stops the step before anything changes, naming the element, time and step.
+TEST(Plate2D, InversionStopsBeforeTheStateChanges) {
+    Plate2D plate(patch(), {steel()}, Plane::Strain);
+    plate.set_velocity(4, 1e4, 1e4); // the interior node (0.04, 0.02) thrown across its elements
+    const double dt = 0.5 * plate.stable_dt();
+    try {
+        for (int k = 0; k < 1000; ++k)
+            plate.step(dt);
+        FAIL() << "no inversion";
+    } catch (const StructureFailure& e) {
+        const std::string what = e.what();
+        std::printf("%s\n", what.c_str());
+        EXPECT_NE(what.find("inverted at t = "), std::string::npos);
+        EXPECT_NE(what.find("in step " + std::to_string(plate.steps() + 1)), std::string::npos);
+        EXPECT_EQ(what.find("element "), 0u);
+    }
 }

@@ -1,0 +1,32 @@
+// Runs a structure-only case (a 1D layered column or a 2D layered plate) with output: undex-solid.
+#pragma once
+#include <ostream>
+
+namespace undex {
+class CaseFile;
+}
+
+namespace undex::solid {
+
+// Output <dir>/solid.h5 (and, for plates, <dir>/solid.xmf for ParaView):
+//   attributes  case (text after overrides), dimension (1 or 2), nodes, elements, layers (material names,
+//               comma-separated), status ("running", "complete", "failed: ...")
+//   1D: x (node positions), element_x (element centres), in the reference configuration
+//       /fields/NNNNNN  attributes time, step, last_good; node fields u, v, a; element fields stress_xx,
+//                       strain_xx, plastic_strain_xx, peeq, peeq_rate
+//   2D: nodes (n × 2 reference x, y), quads (elements × 4 node numbers, counter-clockwise), layer (per
+//       element)
+//       /fields/NNNNNN  attributes time, step, last_good; node fields position (n × 2, current), u_x, u_y,
+//                       v_x, v_y, a_x, a_y; element fields stress_xx, stress_yy, stress_zz (hoop in
+//                       axisymmetry), stress_xy, von_mises, peeq, peeq_rate, hourglass_energy
+//   /energies       t, kinetic, elastic, plastic, hourglass, external, balance_error (per unit area in 1D,
+//                   per unit depth in plane strain, per radian in axisymmetry; every output.gauge_every
+//                   steps and at every output)
+//   /gauges/NAME    1D: t, u, v, a (nearest node), stress_xx, peeq (element containing the point);
+//                   2D: t, u_x, u_y, v_x, v_y, a_x, a_y, stress_xx, stress_yy, stress_zz, stress_xy, peeq;
+//                   the attribute columns of /gauges lists them
+// Returns 0 when complete, 2 when the run stopped on a state the method cannot hold (after writing the last
+// good state).
+int run_structure(const CaseFile& c, std::ostream& log);
+
+} // namespace undex::solid
