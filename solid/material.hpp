@@ -90,6 +90,23 @@ inline double von_mises(const Voigt& s) {
     return std::sqrt(1.5 * (a * a + b * b + c * c) + 3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
 }
 
+// Root of a function f that falls through zero on [lo, hi] (f(lo) > 0 >= f(hi)), from the guess d: Newton
+// with a numerical slope, kept inside the shrinking bracket by bisection. Used by the return mappings, whose
+// residual falls monotonically with the plastic increment.
+template <class F> double falling_root(F f, double lo, double hi, double d) {
+    for (int it = 0; it < 100; ++it) {
+        const double v = f(d);
+        (v > 0 ? lo : hi) = d;
+        const double h = 1e-7 * (d + 1e-12);
+        const double slope = (f(d + h) - v) / h;
+        double next = slope < 0 ? d - v / slope : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (std::abs(next - d) <= 1e-14 * (d + 1e-12) || hi - lo <= 1e-15 * hi) return next;
+        d = next;
+    }
+    return d;
+}
+
 inline void require(bool ok, const std::string& what) {
     if (!ok) throw MaterialError(what);
 }

@@ -67,14 +67,14 @@ class DeshpandeFleck final : public MaterialLaw {
             m = sm / (1 + el_.K * a2 * d / (target * beta_));
             return equivalent(e, m) - target;
         };
-        double lo = 0, hi = 1e-6, target, e, m;
+        // Bracket from the elastic-perfectly-plastic linearisation at Δ = 0, which overshoots the root when
+        // the foam hardens or is viscous; doubled until it brackets.
+        const double q = equivalent(se, sm), sc = sigma_c(s.peeq);
+        double target, e, m;
+        double hi = (q - sc) * q * q * beta_ * beta_ / (3 * el_.G * se * se + el_.K * a2 * a2 * sm * sm);
         while (returned(hi, target, e, m) > 0)
             hi *= 2;
-        for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
-            const double mid = 0.5 * (lo + hi);
-            (returned(mid, target, e, m) > 0 ? lo : hi) = mid;
-        }
-        const double d = 0.5 * (lo + hi);
+        const double d = falling_root([&](double x) { return returned(x, target, e, m); }, 0, hi, hi);
         returned(d, target, e, m);
         // Flow direction ∂σ̂/∂σ = (3 s + (2/3) α² σ_m I) / (2 σ̂ β) at the returned state.
         const double ratio_e = se > 0 ? e / se : 0.0;

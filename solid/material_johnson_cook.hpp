@@ -44,25 +44,10 @@ class JohnsonCook final : public MaterialLaw {
             return;
         }
         // q − 3G Δ = σ_y(ε_p + Δ, Δ/dt): the left side falls and the right side rises with Δ, so the root in
-        // [0, q/3G] is unique; bisection safeguards Newton with a numerical slope.
+        // [0, q/3G] is unique.
         auto f = [&](double d) { return q - 3 * el_.G * d - flow_stress(s.peeq + d, d / dt); };
-        double lo = 0, hi = q / (3 * el_.G), d = 0.5 * (q - flow_stress(s.peeq, 0.0)) / (3 * el_.G);
-        for (int it = 0; it < 100; ++it) {
-            const double v = f(d);
-            if (v > 0)
-                lo = d;
-            else
-                hi = d;
-            const double h = 1e-7 * (d + 1e-12);
-            const double slope = (f(d + h) - v) / h;
-            double next = slope < 0 ? d - v / slope : 0.5 * (lo + hi);
-            if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-            if (std::abs(next - d) <= 1e-14 * (d + 1e-12) || hi - lo <= 1e-15 * hi) {
-                d = next;
-                break;
-            }
-            d = next;
-        }
+        const double d =
+            falling_root(f, 0, q / (3 * el_.G), 0.5 * (q - flow_stress(s.peeq, 0.0)) / (3 * el_.G));
         // Radial return of the deviator; Δε_p = (3/2) Δ s / q along the trial deviator s.
         const double m = mean_stress(s.stress), scale = 1 - 3 * el_.G * d / q;
         for (int i = 0; i < 3; ++i) {

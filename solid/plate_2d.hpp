@@ -355,10 +355,11 @@ class Plate2D {
         }
         return true;
     }
-    // Rotates the in-plane stress by the angle w (counter-clockwise).
+    // Rotates the in-plane stress by the spin increment w (counter-clockwise), with the rotation
+    // (1 − W/2)⁻¹(1 + W/2) of Hughes and Winget: cos and sin of the angle 2 atan(w/2).
     static void rotate(Voigt& s, double w) {
         if (w == 0) return;
-        const double c = std::cos(w), n = std::sin(w);
+        const double t = 0.5 * w, f = 1 / (1 + t * t), c = (1 - t * t) * f, n = 2 * t * f;
         const double xx = s[0], yy = s[1], xy = s[3];
         s[0] = c * c * xx + n * n * yy - 2 * c * n * xy;
         s[1] = n * n * xx + c * c * yy + 2 * c * n * xy;

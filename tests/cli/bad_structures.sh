@@ -28,10 +28,30 @@ end_time: 1e-3
 output { directory: "@OUT@" }
 CASE
 
+# The valid 2D base case: an axisymmetric sandwich plate, clamped at r = 0.5 m (lines: 4 steel, 5 foam,
+# 6-8 layers, 9 plate, 10 front, 11 back and gauge).
+cat > "$TMP/plate.in" <<'CASE'
+name: "plate"
+geometry: AXISYMMETRIC_2D
+structure {
+  materials { name: "steel" johnson_cook { rho: 8000 E: 210e9 nu: 0.28 A: 950e6 B: 560e6 n: 0.26 C: 0.014 } }
+  materials { name: "foam" deshpande_fleck { rho: 430 E: 1e9 nu: 0.3 eps_p: [0, 0.5, 0.75] sigma_c: [4e6, 4.2e6, 40e6] } }
+  layers { material: "steel" thickness: 0.01 element_size: 0.005 }
+  layers { material: "foam" thickness: 0.03 element_size: 0.005 }
+  layers { material: "steel" thickness: 0.01 element_size: 0.005 }
+  plate { span: 0.5 element_size: 0.01 left { type: SYMMETRY } right { type: CLAMPED } }
+  front { type: PRESSURE pressure { p_ambient: 0 p_peak: 2e7 theta: 1e-4 } }
+  back { type: FREE } gauges { name: "P2" x: 0 y: 0.05 }
+}
+end_time: 5e-4
+output { directory: "@OUT@" }
+CASE
+
 # bad NAME SED LINE FIELD: check must fail naming FILE:LINE: and FIELD, exit 1, one stderr line, no output.
+# The base case is $TMP/base.in unless BASE names another.
 bad() {
     local name=$1 expr=$2 line=$3 field=$4 f="$TMP/$1.case" out="$TMP/out-$1"
-    sed -e "$expr" -e "s|@OUT@|$out|" "$TMP/base.in" > "$f"
+    sed -e "$expr" -e "s|@OUT@|$out|" "$TMP/${BASE:-base.in}" > "$f"
     "$UNDEX" check "$f" > /dev/null 2> "$TMP/err"
     local rc=$? problems=""
     [ $rc -eq 1 ] || problems+=" exit $rc;"
@@ -100,6 +120,51 @@ bad pressure-without-history 's/front { type: PRESSURE pressure {[^}]*} }/front 
 bad unwritable-output 's|"@OUT@"|"/proc/undex-cannot-write"|' 14 'output.directory'
 bad gauge-outside 's/x: 0.049/x: 0.06/' 11 'structure.gauges[0].x'
 bad unknown-kinematics 's/back { type: FREE }/back { type: FREE } kinematics: "bent"/' 11 'structure.kinematics'
+
+bad plate-in-1d 's/back { type: FREE }/back { type: FREE } plate { span: 1 element_size: 0.1 left { type: FREE } right { type: FREE } }/' 11 'structure.plate'
+
+# 2D plates: a valid plate passes check, runs alone, closes its energy balance (bound 1e-3 of the external
+# work: the O(Δt²) error of central differences under a sudden load, as in test_plate_2d), writes an XDMF
+# file whose every dataset is in solid.h5, and prints its gauges as CSV.
+sed -e "s|@OUT@|$TMP/out-plate|" "$TMP/plate.in" > "$TMP/plate.case"
+if "$UNDEX" check "$TMP/plate.case" | grep -q "ok: structure of 3 layer(s), 500 elements (axisymmetric)"; then
+    echo "ok: valid plate"; passed=$((passed + 1))
+else echo "FAIL: valid plate: $("$UNDEX" check "$TMP/plate.case" 2>&1)"; failed=$((failed + 1)); fi
+"$UNDEX" run "$TMP/plate.case" > "$TMP/run.log" 2> "$TMP/err"
+rc=$?
+if [ $rc -eq 0 ] && /usr/bin/python3 - "$TMP/out-plate" <<'PY'
+import re
+import sys
+import xml.etree.ElementTree as ET
+import h5py
+d = sys.argv[1]
+f = h5py.File(d + "/solid.h5", "r")
+e = f["energies"]
+ok = (f.attrs["status"] in (b"complete", "complete")
+      and max(abs(e["balance_error"][:])) < 1e-3 * e["external"][-1]
+      and f["nodes"].shape == (51 * 11, 2) and f["quads"].shape == (500, 4))
+items = [i.text.split(":", 1)[1] for i in ET.parse(d + "/solid.xmf").iter("DataItem")]
+grids = list(ET.parse(d + "/solid.xmf").iter("Grid"))
+ok = ok and len(grids) == len(f["fields"]) + 1 and all(i in f for i in items)
+sys.exit(0 if ok else 1)
+PY
+then echo "ok: a plate runs alone, closes its energy balance and writes XDMF"; passed=$((passed + 1))
+else echo "FAIL: plate run: exit $rc $(cat "$TMP/err") $(tail -n 2 "$TMP/run.log")"; failed=$((failed + 1)); fi
+"$UNDEX" gauges "$TMP/out-plate" --name P2 > "$TMP/g.csv" 2> "$TMP/err"
+if [ "$(head -n 1 "$TMP/g.csv")" = "t,u_x,u_y,v_x,v_y,a_x,a_y,stress_xx,stress_yy,stress_zz,stress_xy,peeq" ] &&
+    [ "$(wc -l < "$TMP/g.csv")" -gt 10 ]; then
+    echo "ok: plate gauge as CSV"; passed=$((passed + 1))
+else echo "FAIL: plate gauge: $(head -n 2 "$TMP/g.csv") $(cat "$TMP/err")"; failed=$((failed + 1)); fi
+
+BASE=plate.in bad plate-missing '/^  plate/d' 3 'structure.plate'
+BASE=plate.in bad foam-1d-in-2d 's/deshpande_fleck { rho: 430 E: 1e9 nu: 0.3 eps_p: \[0, 0.5, 0.75\] sigma_c: \[4e6, 4.2e6, 40e6\] }/foam_1d { rho: 236 E: 1e9 sigma_pl: 1.5e6 eps_d: 0.8 E_lock: 2e11 }/' 7 'structure.layers[1].material'
+BASE=plate.in bad plate-zero-element 's/span: 0.5 element_size: 0.01/span: 0.5 element_size: 0/' 9 'structure.plate.element_size'
+BASE=plate.in bad plate-span-below-element 's/span: 0.5 element_size: 0.01/span: 0.005 element_size: 0.01/' 9 'structure.plate.span'
+BASE=plate.in bad axis-not-symmetry 's/left { type: SYMMETRY }/left { type: FREE }/' 9 'structure.plate.left.type'
+BASE=plate.in bad gauge-outside-plate 's/x: 0 y: 0.05/x: 0.6 y: 0.05/' 11 'structure.gauges[0].x'
+BASE=plate.in bad gauge-below-plate 's/x: 0 y: 0.05/x: 0 y: 0.06/' 11 'structure.gauges[0].y'
+BASE=plate.in bad kinematics-in-2d 's/back { type: FREE }/back { type: FREE } kinematics: "uniaxial_strain"/' 11 'structure.kinematics'
+BASE=plate.in bad plate-dt-above-stable 's/back { type: FREE }/back { type: FREE } dt: 1e-5/' 11 'structure.dt'
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
