@@ -202,15 +202,19 @@ class Plate2D {
         const long n = static_cast<long>(X_.size()), ne = static_cast<long>(quads_.size());
         if (steps_ == 0) forces(time_);
         const double h = steps_ == 0 ? 0.5 * dt : 0.5 * (dt + last_dt_);
+        long nonfinite = -1;
+#pragma omp parallel for schedule(static) reduction(max : nonfinite)
         for (long i = 0; i < n; ++i) {
             dux_[i] = dt * (cx_[i] ? vx_[i] : vx_[i] + h * ax_[i]);
             duy_[i] = dt * (cy_[i] ? vy_[i] : vy_[i] + h * ay_[i]);
-            if (!std::isfinite(dux_[i]) || !std::isfinite(duy_[i])) {
-                std::ostringstream s;
-                s << "node " << i << " (x = " << X_[i] << ", y = " << Y_[i]
-                  << " m) has a non-finite velocity at t = " << time_ + dt << " s in step " << steps_ + 1;
-                throw StructureFailure(s.str());
-            }
+            if (!std::isfinite(dux_[i]) || !std::isfinite(duy_[i])) nonfinite = std::max(nonfinite, i);
+        }
+        if (nonfinite >= 0) {
+            const long i = nonfinite;
+            std::ostringstream s;
+            s << "node " << i << " (x = " << X_[i] << ", y = " << Y_[i] << " m) has a non-finite velocity at t = "
+              << time_ + dt << " s in step " << steps_ + 1;
+            throw StructureFailure(s.str());
         }
         long bad = -1;
 #pragma omp parallel for schedule(static) reduction(max : bad)
@@ -224,13 +228,13 @@ class Plate2D {
               << steps_ + 1;
             throw StructureFailure(s.str());
         }
+        double work = 0;
+#pragma omp parallel for schedule(static) reduction(+ : work)
         for (long i = 0; i < n; ++i) {
             vx_[i] = dux_[i] / dt;
             vy_[i] = duy_[i] / dt;
-        }
-        double work = 0;
-        for (long i = 0; i < n; ++i)
             work += wx_[i] * dux_[i] + wy_[i] * duy_[i];
+        }
         // Element updates at the mid-step configuration.
         double internal = 0, plastic = 0;
         const bool axi = plane_ == Plane::Axisymmetric;
@@ -268,6 +272,7 @@ class Plate2D {
         }
         en_.internal += internal;
         en_.plastic += plastic;
+#pragma omp parallel for schedule(static)
         for (long i = 0; i < n; ++i) {
             ux_[i] += dux_[i];
             uy_[i] += duy_[i];
@@ -276,6 +281,7 @@ class Plate2D {
         last_dt_ = dt;
         ++steps_;
         forces(time_);
+#pragma omp parallel for schedule(static) reduction(+ : work)
         for (long i = 0; i < n; ++i)
             work += wx_[i] * dux_[i] + wy_[i] * duy_[i];
         en_.external += 0.5 * work;
@@ -428,7 +434,9 @@ class Plate2D {
     // Kinetic energy at the integer step from the half-step velocity and the new acceleration.
     double kinetic(double dt) const {
         double k = 0;
-        for (size_t i = 0; i < X_.size(); ++i) {
+        const long n = static_cast<long>(X_.size());
+#pragma omp parallel for schedule(static) reduction(+ : k)
+        for (long i = 0; i < n; ++i) {
             const double vx = vx_[i] + 0.5 * dt * ax_[i], vy = vy_[i] + 0.5 * dt * ay_[i];
             k += 0.5 * mass_[i] * (vx * vx + vy * vy);
         }
