@@ -212,8 +212,8 @@ class Plate2D {
         if (nonfinite >= 0) {
             const long i = nonfinite;
             std::ostringstream s;
-            s << "node " << i << " (x = " << X_[i] << ", y = " << Y_[i] << " m) has a non-finite velocity at t = "
-              << time_ + dt << " s in step " << steps_ + 1;
+            s << "node " << i << " (x = " << X_[i] << ", y = " << Y_[i]
+              << " m) has a non-finite velocity at t = " << time_ + dt << " s in step " << steps_ + 1;
             throw StructureFailure(s.str());
         }
         long bad = -1;
@@ -223,7 +223,7 @@ class Plate2D {
                 bad = std::max(bad, e);
         if (bad >= 0) {
             std::ostringstream s;
-            s << "element " << bad << " (material " << law_of_[bad] << ", centre x = " << element_x(bad)
+            s << "element " << bad << " (layer " << law_of_[bad] << ", centre x = " << element_x(bad)
               << ", y = " << element_y(bad) << " m) inverted at t = " << time_ + dt << " s in step "
               << steps_ + 1;
             throw StructureFailure(s.str());

@@ -338,3 +338,35 @@ TEST(Plate2D, InversionStopsBeforeTheStateChanges) {
         EXPECT_EQ(what.find("element "), 0u);
     }
 }
+
+// The hourglass stiffness makes pure bending of one rectangular element exact: the mode u_x = q ξη of a
+// 2a × 2b rectangle is the bending u_x = κ x y with κ = q/(ab), whose energy per unit depth in plane strain
+// with σ_yy = 0 is ½ E/(1 − ν²) κ² (2a)(2b)³/12 (beam theory). The one-point stress sees no strain from this
+// mode, so the hourglass energy must carry all of it (bound 1e-6: the mode is reached in one step from rest,
+// u = Δt v exactly). Both aspect ratios, and the transverse mode u_y = q ξη (κ = q/(ab) about the other
+// axis).
+TEST(Plate2D, HourglassStiffnessGivesExactBendingOfARectangle) {
+    for (double b : {0.5, 2.0})
+        for (int component : {0, 1}) {
+            const double a = 1.0;
+            QuadMesh m;
+            m.x = {-a, a, a, -a};
+            m.y = {-b, -b, b, b};
+            m.quads = {{0, 1, 2, 3}};
+            m.law = {0};
+            Plate2D plate(m, {steel()}, Plane::Strain);
+            const double q = 1e-6, dt = 1e-7;
+            const double h[4] = {1, -1, 1, -1};
+            for (int k = 0; k < 4; ++k)
+                plate.set_velocity(k, component == 0 ? h[k] * q / dt : 0, component == 1 ? h[k] * q / dt : 0);
+            plate.step(dt);
+            const double kappa = q / (a * b);
+            const double depth = component == 0 ? 2 * b : 2 * a, length = component == 0 ? 2 * a : 2 * b;
+            const double exact = 0.5 * E / (1 - nu * nu) * kappa * kappa * length * std::pow(depth, 3) / 12;
+            std::printf(
+                "b/a = %.1f, mode %c: hourglass energy %.6e J/m, exact bending %.6e J/m, internal %.1e\n",
+                b / a, component == 0 ? 'x' : 'y', plate.energies().hourglass, exact,
+                plate.energies().internal);
+            EXPECT_NEAR(plate.energies().hourglass, exact, 1e-6 * exact);
+        }
+}
