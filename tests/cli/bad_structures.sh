@@ -156,6 +156,11 @@ if [ "$(head -n 1 "$TMP/g.csv")" = "t,u_x,u_y,v_x,v_y,a_x,a_y,stress_xx,stress_y
     echo "ok: plate gauge as CSV"; passed=$((passed + 1))
 else echo "FAIL: plate gauge: $(head -n 2 "$TMP/g.csv") $(cat "$TMP/err")"; failed=$((failed + 1)); fi
 
+if /usr/bin/python3 "$(dirname "$0")/../../cases/plot_structure.py" "$TMP/out-plate" > /dev/null 2> "$TMP/err" &&
+    [ -s "$TMP/out-plate/structure.png" ]; then
+    echo "ok: plot_structure.py draws the plate run"; passed=$((passed + 1))
+else echo "FAIL: plot_structure.py: $(cat "$TMP/err")"; failed=$((failed + 1)); fi
+
 BASE=plate.in bad plate-missing '/^  plate/d' 3 'structure.plate'
 BASE=plate.in bad foam-1d-in-2d 's/deshpande_fleck { rho: 430 E: 1e9 nu: 0.3 eps_p: \[0, 0.5, 0.75\] sigma_c: \[4e6, 4.2e6, 40e6\] }/foam_1d { rho: 236 E: 1e9 sigma_pl: 1.5e6 eps_d: 0.8 E_lock: 2e11 }/' 7 'structure.layers[1].material'
 BASE=plate.in bad plate-zero-element 's/span: 0.5 element_size: 0.01/span: 0.5 element_size: 0/' 9 'structure.plate.element_size'
