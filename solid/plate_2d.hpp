@@ -80,6 +80,7 @@ class Plate2D {
         : plane_(plane), laws_(std::move(laws)), X_(std::move(mesh.x)), Y_(std::move(mesh.y)),
           quads_(std::move(mesh.quads)), law_of_(std::move(mesh.law)) {
         const size_t n = X_.size(), ne = quads_.size();
+        parallel_ = ne >= 2048;
         require(Y_.size() == n && law_of_.size() == ne && ne > 0, "a 2D mesh needs nodes and elements");
         require(hourglass >= 0, "the hourglass factor must be >= 0");
         for (auto* v : {&ux_, &uy_, &vx_, &vy_, &ax_, &ay_, &mass_, &wx_, &wy_, &dux_, &duy_})
@@ -203,7 +204,7 @@ class Plate2D {
         if (steps_ == 0) forces(time_);
         const double h = steps_ == 0 ? 0.5 * dt : 0.5 * (dt + last_dt_);
         long nonfinite = -1;
-#pragma omp parallel for schedule(static) reduction(max : nonfinite)
+#pragma omp parallel for schedule(static) reduction(max : nonfinite) if (parallel_)
         for (long i = 0; i < n; ++i) {
             dux_[i] = dt * (cx_[i] ? vx_[i] : vx_[i] + h * ax_[i]);
             duy_[i] = dt * (cy_[i] ? vy_[i] : vy_[i] + h * ay_[i]);
@@ -217,7 +218,7 @@ class Plate2D {
             throw StructureFailure(s.str());
         }
         long bad = -1;
-#pragma omp parallel for schedule(static) reduction(max : bad)
+#pragma omp parallel for schedule(static) reduction(max : bad) if (parallel_)
         for (long e = 0; e < ne; ++e)
             if (!corners_positive(e, X_.data(), Y_.data(), ux_.data(), uy_.data(), 1.0))
                 bad = std::max(bad, e);
@@ -229,7 +230,7 @@ class Plate2D {
             throw StructureFailure(s.str());
         }
         double work = 0;
-#pragma omp parallel for schedule(static) reduction(+ : work)
+#pragma omp parallel for schedule(static) reduction(+ : work) if (parallel_)
         for (long i = 0; i < n; ++i) {
             vx_[i] = dux_[i] / dt;
             vy_[i] = duy_[i] / dt;
@@ -238,7 +239,7 @@ class Plate2D {
         // Element updates at the mid-step configuration.
         double internal = 0, plastic = 0;
         const bool axi = plane_ == Plane::Axisymmetric;
-#pragma omp parallel for schedule(static) reduction(+ : internal, plastic)
+#pragma omp parallel for schedule(static) reduction(+ : internal, plastic) if (parallel_)
         for (long e = 0; e < ne; ++e) {
             const auto& q = quads_[e];
             double xm[4], ym[4], dx[4], dy[4];
@@ -272,7 +273,7 @@ class Plate2D {
         }
         en_.internal += internal;
         en_.plastic += plastic;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
         for (long i = 0; i < n; ++i) {
             ux_[i] += dux_[i];
             uy_[i] += duy_[i];
@@ -281,7 +282,7 @@ class Plate2D {
         last_dt_ = dt;
         ++steps_;
         forces(time_);
-#pragma omp parallel for schedule(static) reduction(+ : work)
+#pragma omp parallel for schedule(static) reduction(+ : work) if (parallel_)
         for (long i = 0; i < n; ++i)
             work += wx_[i] * dux_[i] + wy_[i] * duy_[i];
         en_.external += 0.5 * work;
@@ -313,6 +314,8 @@ class Plate2D {
     std::vector<double> kx_, ky_, efx_, efy_, ehg_;
     std::vector<int> incidence_start_, incidence_;
     std::vector<Load> loads_;
+    // Threads only for meshes large enough to repay the start of a parallel loop (several per step).
+    bool parallel_ = false;
     Energies en_;
     double time_ = 0, last_dt_ = 0;
     long steps_ = 0;
@@ -378,7 +381,7 @@ class Plate2D {
         const long n = static_cast<long>(X_.size()), ne = static_cast<long>(quads_.size());
         const bool axi = plane_ == Plane::Axisymmetric;
         double hourglass = 0;
-#pragma omp parallel for schedule(static) reduction(+ : hourglass)
+#pragma omp parallel for schedule(static) reduction(+ : hourglass) if (parallel_)
         for (long e = 0; e < ne; ++e) {
             const auto& q = quads_[e];
             double x[4], y[4];
@@ -414,7 +417,7 @@ class Plate2D {
                 wx_[j] += fx * sj, wy_[j] += fy * sj;
             }
         }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
         for (long i = 0; i < n; ++i) {
             double fx = 0, fy = 0;
             for (int k = incidence_start_[i]; k < incidence_start_[i + 1]; ++k)
@@ -435,7 +438,7 @@ class Plate2D {
     double kinetic(double dt) const {
         double k = 0;
         const long n = static_cast<long>(X_.size());
-#pragma omp parallel for schedule(static) reduction(+ : k)
+#pragma omp parallel for schedule(static) reduction(+ : k) if (parallel_)
         for (long i = 0; i < n; ++i) {
             const double vx = vx_[i] + 0.5 * dt * ax_[i], vy = vy_[i] + 0.5 * dt * ay_[i];
             k += 0.5 * mass_[i] * (vx * vx + vy * vy);
