@@ -1,0 +1,124 @@
+#include "channel.hpp"
+
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+
+namespace undex::coupling {
+
+namespace {
+
+// Whether a process accepts connections on the Unix socket at path.
+bool ipc_in_use(const std::string& path) {
+    if (!std::filesystem::exists(path)) return false;
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    if (path.size() >= sizeof addr.sun_path) return false;
+    std::strcpy(addr.sun_path, path.c_str());
+    const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    if (fd < 0) return false;
+    const bool live = ::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
+    ::close(fd);
+    return live;
+}
+
+} // namespace
+
+std::string body_name(Envelope::BodyCase b) {
+    switch (b) {
+    case Envelope::kHello:
+        return "Hello";
+    case Envelope::kWelcome:
+        return "Welcome";
+    case Envelope::kOffer:
+        return "Offer";
+    case Envelope::kGrant:
+        return "Grant";
+    case Envelope::kAnswer:
+        return "Answer";
+    case Envelope::kOutput:
+        return "OutputRequest";
+    case Envelope::kStop:
+        return "Stop";
+    case Envelope::kError:
+        return "Error";
+    case Envelope::kHeartbeat:
+        return "Heartbeat";
+    default:
+        return "an empty message";
+    }
+}
+
+Channel::Channel(const std::string& endpoint, Role role, std::string peer, int timeout_ms)
+    : socket_(context_, zmq::socket_type::pair), endpoint_(endpoint), peer_(std::move(peer)),
+      timeout_ms_(timeout_ms) {
+    socket_.set(zmq::sockopt::linger, 0);
+    try {
+        if (role == Role::Bind) {
+            if (endpoint.rfind("ipc://", 0) == 0) {
+                const std::string path = endpoint.substr(6);
+                if (ipc_in_use(path))
+                    throw CouplingError("endpoint " + endpoint + " is already in use by another process");
+                ipc_path_ = path;
+            }
+            socket_.bind(endpoint);
+            endpoint_ = socket_.get(zmq::sockopt::last_endpoint); // the port chosen for tcp://HOST:*
+        } else {
+            socket_.connect(endpoint);
+        }
+    } catch (const zmq::error_t& e) {
+        throw CouplingError("cannot " + std::string(role == Role::Bind ? "bind" : "connect to") +
+                            " endpoint " + endpoint + ": " + e.what());
+    }
+}
+
+Channel::~Channel() {
+    socket_.close();
+    if (!ipc_path_.empty()) std::filesystem::remove(ipc_path_);
+}
+
+void Channel::send(Envelope& e) {
+    e.set_protocol(protocol_version);
+    const std::string bytes = e.SerializeAsString();
+    try {
+        socket_.send(zmq::buffer(bytes), zmq::send_flags::none);
+    } catch (const zmq::error_t& err) {
+        throw CouplingError("cannot send " + body_name(e.body_case()) + " to " + peer_ + " at step " +
+                            std::to_string(e.step()) + ": " + err.what());
+    }
+}
+
+Envelope Channel::receive(std::int64_t step, Envelope::BodyCase expected) {
+    const std::string at = " at step " + std::to_string(step);
+    for (;;) {
+        zmq::pollitem_t item{socket_.handle(), 0, ZMQ_POLLIN, 0};
+        zmq::poll(&item, 1, std::chrono::milliseconds(timeout_ms_));
+        if (!(item.revents & ZMQ_POLLIN))
+            throw CouplingError(peer_ + " did not answer within " +
+                                std::to_string(timeout_ms_ / 1000.0).substr(0, 5) + " s" + at +
+                                " (waiting for " + body_name(expected) + ")");
+        zmq::message_t frame;
+        if (!socket_.recv(frame, zmq::recv_flags::none)) continue;
+        Envelope e;
+        if (!e.ParseFromArray(frame.data(), static_cast<int>(frame.size())) || !e.IsInitialized())
+            throw CouplingError(peer_ + " sent a malformed message" + at + " (" +
+                                std::to_string(frame.size()) + " bytes that are not a coupling Envelope)");
+        if (e.protocol() != protocol_version)
+            throw CouplingError(peer_ + " speaks protocol version " + std::to_string(e.protocol()) +
+                                ", this side version " + std::to_string(protocol_version) + at);
+        if (e.has_error())
+            throw CouplingError(peer_ + " stopped with an error" + at + ": " + e.error().message());
+        if (e.has_heartbeat()) continue;
+        if (e.has_stop()) return e;
+        if (e.body_case() != expected || e.step() != step)
+            throw CouplingError(peer_ + " sent " + body_name(e.body_case()) + " of step " +
+                                std::to_string(e.step()) + " where " + body_name(expected) + " of step " +
+                                std::to_string(step) + " was expected");
+        return e;
+    }
+}
+
+} // namespace undex::coupling
