@@ -5,6 +5,8 @@
 #include "material_foam_1d.hpp"
 #include "material_johnson_cook.hpp"
 
+#include "peak.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,22 +17,6 @@ using namespace undex::solid;
 namespace {
 
 const double rho = 8000, E = 210e9, nu = 0.28;
-
-struct Peak {
-    double time, value;
-};
-
-// Time of the extreme of a sampled series (parabola through the extreme sample and its neighbours).
-Peak extreme(const std::vector<double>& t, const std::vector<double>& s, bool maximum, double t0, double t1) {
-    size_t best = 0;
-    bool found = false;
-    for (size_t k = 1; k + 1 < s.size(); ++k)
-        if (t[k] >= t0 && t[k] <= t1 && (!found || (maximum ? s[k] > s[best] : s[k] < s[best])))
-            best = k, found = true;
-    const double a = s[best - 1], b = s[best], c = s[best + 1], den = a - 2 * b + c;
-    const double off = den != 0 ? 0.5 * (a - c) / den : 0.0;
-    return {t[best] + off * (t[best + 1] - t[best - 1]) / 2, b - 0.25 * (a - c) * off};
-}
 
 struct Pulse {
     std::vector<double> t, s25, s50;

@@ -11,7 +11,6 @@
 
 using undex::fluid::Primitive;
 
-
 namespace {
 
 const double pi = std::acos(-1.0);
@@ -22,7 +21,8 @@ std::string wave_case(int k, int n) {
            " } materials { name: 'air' stiffened_gas { gamma: 1.4 } }"
            " regions { material: 'air' rho: 1 u: 1 p: 1 }"
            " boundaries { x_min { type: PERIODIC } x_max { type: PERIODIC } }"
-           " numerics { degree: " + std::to_string(k) + " cfl: " + (k == 0 ? "0.4" : "0.15") +
+           " numerics { degree: " +
+           std::to_string(k) + " cfl: " + (k == 0 ? "0.4" : "0.15") +
            " } end_time: 0.5 output { directory: '/tmp' }";
 }
 
@@ -36,7 +36,10 @@ double wave_error(int k, int n) {
     });
     undex::test::advance(*s, 0.5);
     return undex::test::l2_error(
-        *s, [](double x, double) { return Primitive{1 + 0.2 * std::sin(2 * pi * (x - 0.5)), 1, 0, 1}; },
+        *s,
+        [](double x, double) {
+            return Primitive{1 + 0.2 * std::sin(2 * pi * (x - 0.5)), 1, 0, 1};
+        },
         [](const Primitive& w) { return w.rho; });
 }
 
@@ -62,8 +65,9 @@ double vortex_error(int k, int n, double t_end) {
         " y_min: 0 y_max: 10 cells_y: " + std::to_string(n) +
         " } materials { name: 'air' stiffened_gas { gamma: 1.4 } } regions { material: 'air' rho: 1 p: 1 }"
         " boundaries { x_min { type: PERIODIC } x_max { type: PERIODIC } y_min { type: PERIODIC }"
-        " y_max { type: PERIODIC } } numerics { degree: " + std::to_string(k) + " cfl: " +
-        (k == 0 ? "0.4" : "0.15") + " tvb_m: 200 } end_time: 1 output { directory: '/tmp' }");
+        " y_max { type: PERIODIC } } numerics { degree: " +
+        std::to_string(k) + " cfl: " + (k == 0 ? "0.4" : "0.15") +
+        " tvb_m: 200 } end_time: 1 output { directory: '/tmp' }");
     s->project([](double x, double y, double* q) {
         const Primitive w = vortex(x, y, 0);
         q[0] = w.rho;
@@ -73,7 +77,8 @@ double vortex_error(int k, int n, double t_end) {
     });
     undex::test::advance(*s, t_end);
     return undex::test::l2_error(
-        *s, [&](double x, double y) { return vortex(x, y, t_end); }, [](const Primitive& w) { return w.rho; });
+        *s, [&](double x, double y) { return vortex(x, y, t_end); },
+        [](const Primitive& w) { return w.rho; });
 }
 
 } // namespace

@@ -54,7 +54,8 @@ TEST(Riemann, SodAgainstExactSolution) {
                              {0.125, 0.0, 0.1});
     double prev = 0;
     for (int n : {100, 200, 400}) {
-        auto s = undex::test::make(tube("name: 'm' stiffened_gas { gamma: 1.4 }", 2, n, 1, 0, 1, 0.125, 0, 0.1, 0.2));
+        auto s = undex::test::make(
+            tube("name: 'm' stiffened_gas { gamma: 1.4 }", 2, n, 1, 0, 1, 0.125, 0, 0.1, 0.2));
         undex::test::advance(*s, 0.2);
         const L1 e = l1_errors(*s, ex, 0.5, 0.2);
         std::printf("Sod k=2 N=%d: L1 rho %.3e  u %.3e  p %.3e\n", n, e.rho, e.u, e.p);
@@ -73,8 +74,8 @@ TEST(Riemann, SodAgainstExactSolution) {
 // A strong water–water Riemann problem: water compressed to ρ = 1200 kg/m³ (p ≈ 0.89 GPa) against water
 // at rest at 1e5 Pa, t = 1e-4 s, 400 cells, degree 2, for both water models, each against the exact
 // solution of its own model. Bounds: 1 % of the pressure jump for L1(p), 1 % of the star velocity for
-// L1(u) and 1 % of the density jump for L1(ρ) — a shock and a rarefaction smeared over 2–3 of 400 cells give errors of
-// this size (jump × 2.5 cells / 400 ≈ 0.6 %).
+// L1(u) and 1 % of the density jump for L1(ρ) — a shock and a rarefaction smeared over 2–3 of 400 cells give
+// errors of this size (jump × 2.5 cells / 400 ≈ 0.6 %).
 class WaterTube : public testing::TestWithParam<bool> {};
 
 TEST_P(WaterTube, AgainstExactSolutionOfItsOwnModel) {

@@ -17,9 +17,11 @@ using undex::fluid::Primitive;
 TEST(Conservation, PeriodicBlastKeepsTotalsToRoundOff) {
     auto s = undex::test::make(
         "geometry: PLANAR_2D domain { x_min: 0 x_max: 1 cells_x: 80 y_min: 0 y_max: 1 cells_y: 80 }"
-        " materials { name: 'air' stiffened_gas { gamma: 1.4 } } regions { material: 'air' rho: 1 u: 0.3 v: -0.2 p: 0.1 }"
+        " materials { name: 'air' stiffened_gas { gamma: 1.4 } } regions { material: 'air' rho: 1 u: 0.3 v: "
+        "-0.2 p: 0.1 }"
         " regions { material: 'air' ball { x: 0.4 y: 0.6 radius: 0.2 } rho: 2 u: 0.3 v: -0.2 p: 10 }"
-        " boundaries { x_min { type: PERIODIC } x_max { type: PERIODIC } y_min { type: PERIODIC } y_max { type: PERIODIC } }"
+        " boundaries { x_min { type: PERIODIC } x_max { type: PERIODIC } y_min { type: PERIODIC } y_max { "
+        "type: PERIODIC } }"
         " numerics { degree: 2 cfl: 0.2 } end_time: 0.05 output { directory: '/tmp' }");
     const auto before = s->totals();
     long troubled = 0;
@@ -66,7 +68,8 @@ TEST(CavitationTube, SymmetricPositiveAndCavitatingAtTheCentre) {
         asym_p += std::abs(w.p - r.p) / m.nx;
     }
     const Primitive centre = s->cell_average(m.nx / 2, 0);
-    std::printf("p_min %.3e Pa, rho_min %.3f, centre p %.3e Pa rho %.3f void %.3e; L1 asymmetry u %.3e m/s, p %.3e Pa (peak %.3e Pa)\n",
+    std::printf("p_min %.3e Pa, rho_min %.3f, centre p %.3e Pa rho %.3f void %.3e; L1 asymmetry u %.3e m/s, "
+                "p %.3e Pa (peak %.3e Pa)\n",
                 p_min, rho_min, centre.p, centre.rho, s->void_fraction(centre.p), asym_u, asym_p, p_max);
     EXPECT_GE(p_min, 0.0);
     EXPECT_GT(rho_min, 0.0);
@@ -90,19 +93,23 @@ TEST(CavitationTube, SymmetricPositiveAndCavitatingAtTheCentre) {
 TEST(GeometricSource, SphericalBlast1DAnd2DAxisymmetricAgree) {
     const std::string common = " materials { name: 'air' stiffened_gas { gamma: 1.4 } }"
                                " numerics { degree: 1 cfl: 0.2 } end_time: 0.15 output { directory: '/tmp' }";
-    auto s1 = undex::test::make(
-        "geometry: SPHERICAL_1D domain { x_min: 0 x_max: 1 cells_x: 800 }"
-        " regions { material: 'air' rho: 1 p: 0.1 } regions { material: 'air' ball { radius: 0.3 } rho: 2 p: 2 }"
-        " boundaries { x_min { type: SYMMETRY } x_max { type: TRANSMISSIVE } }" + common);
+    auto s1 = undex::test::make("geometry: SPHERICAL_1D domain { x_min: 0 x_max: 1 cells_x: 800 }"
+                                " regions { material: 'air' rho: 1 p: 0.1 } regions { material: 'air' ball { "
+                                "radius: 0.3 } rho: 2 p: 2 }"
+                                " boundaries { x_min { type: SYMMETRY } x_max { type: TRANSMISSIVE } }" +
+                                common);
     undex::test::advance(*s1, 0.15);
     double previous_axis = 0, previous_diag = 0;
     for (int n : {50, 100, 200}) {
         const std::string cells = std::to_string(n);
         auto s2 = undex::test::make(
-            "geometry: AXISYMMETRIC_2D domain { x_min: 0 x_max: 1 cells_x: " + cells + " y_min: 0 y_max: 1 cells_y: " +
-            cells + " } regions { material: 'air' rho: 1 p: 0.1 } regions { material: 'air' ball { radius: 0.3 } rho: 2 p: 2 }"
+            "geometry: AXISYMMETRIC_2D domain { x_min: 0 x_max: 1 cells_x: " + cells +
+            " y_min: 0 y_max: 1 cells_y: " + cells +
+            " } regions { material: 'air' rho: 1 p: 0.1 } regions { material: 'air' ball { radius: 0.3 } "
+            "rho: 2 p: 2 }"
             " boundaries { x_min { type: SYMMETRY } x_max { type: TRANSMISSIVE } y_min { type: SYMMETRY }"
-            " y_max { type: TRANSMISSIVE } }" + common);
+            " y_max { type: TRANSMISSIVE } }" +
+            common);
         undex::test::advance(*s2, 0.15);
         double diff = 0, mean = 0, diff_diag = 0;
         const double z0 = s2->mesh().yc(0);
@@ -136,7 +143,8 @@ TEST(Failure, UnlimitedStrongShockStopsWithAClearMessage) {
         " materials { name: 'air' stiffened_gas { gamma: 1.4 } } regions { material: 'air' rho: 1 p: 1e5 }"
         " regions { material: 'air' box { x_min: 0.5 } rho: 0.01 p: 1e-3 }"
         " boundaries { x_min { type: TRANSMISSIVE } x_max { type: TRANSMISSIVE } }"
-        " numerics { degree: 2 cfl: 0.2 indicator: 'none' positivity: false } end_time: 1e-3 output { directory: '/tmp' }");
+        " numerics { degree: 2 cfl: 0.2 indicator: 'none' positivity: false } end_time: 1e-3 output { "
+        "directory: '/tmp' }");
     try {
         undex::test::advance(*s, 1e-3);
         FAIL() << "the unlimited run was expected to fail";
