@@ -4,6 +4,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 
@@ -39,8 +40,6 @@ std::string body_name(Envelope::BodyCase b) {
         return "Grant";
     case Envelope::kAnswer:
         return "Answer";
-    case Envelope::kOutput:
-        return "OutputRequest";
     case Envelope::kStop:
         return "Stop";
     case Envelope::kError:
@@ -53,9 +52,15 @@ std::string body_name(Envelope::BodyCase b) {
 }
 
 Channel::Channel(const std::string& endpoint, Role role, std::string peer, int timeout_ms)
-    : socket_(context_, zmq::socket_type::pair), endpoint_(endpoint), peer_(std::move(peer)),
-      timeout_ms_(timeout_ms) {
-    socket_.set(zmq::sockopt::linger, 0);
+    : socket_(context_, zmq::socket_type::pair), monitor_(context_, zmq::socket_type::pair), endpoint_(endpoint),
+      peer_(std::move(peer)), timeout_ms_(timeout_ms) {
+    // Messages still queued when the socket closes (the last Stop) get a moment to leave.
+    socket_.set(zmq::sockopt::linger, 2000);
+    const std::string monitor = "inproc://monitor";
+    if (zmq_socket_monitor(socket_.handle(), monitor.c_str(),
+                           ZMQ_EVENT_CONNECTED | ZMQ_EVENT_ACCEPTED | ZMQ_EVENT_DISCONNECTED) != 0)
+        throw CouplingError("cannot monitor the coupling socket: " + std::string(zmq_strerror(zmq_errno())));
+    monitor_.connect(monitor);
     try {
         if (role == Role::Bind) {
             if (endpoint.rfind("ipc://", 0) == 0) {
@@ -91,15 +96,42 @@ void Channel::send(Envelope& e) {
     }
 }
 
+// Reads one monitor event: its number (ZMQ_EVENT_*).
+int read_event(zmq::socket_t& monitor) {
+    zmq::message_t head, address;
+    if (!monitor.recv(head, zmq::recv_flags::none)) return 0;
+    if (head.more()) (void)monitor.recv(address, zmq::recv_flags::none);
+    std::uint16_t event = 0;
+    if (head.size() >= sizeof event) std::memcpy(&event, head.data(), sizeof event);
+    return event;
+}
+
 Envelope Channel::receive(std::int64_t step, Envelope::BodyCase expected) {
     const std::string at = " at step " + std::to_string(step);
+    auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms_);
     for (;;) {
-        zmq::pollitem_t item{socket_.handle(), 0, ZMQ_POLLIN, 0};
-        zmq::poll(&item, 1, std::chrono::milliseconds(timeout_ms_));
-        if (!(item.revents & ZMQ_POLLIN))
-            throw CouplingError(peer_ + " did not answer within " +
-                                std::to_string(timeout_ms_ / 1000.0).substr(0, 5) + " s" + at +
-                                " (waiting for " + body_name(expected) + ")");
+        zmq::pollitem_t items[2] = {{socket_.handle(), 0, ZMQ_POLLIN, 0}, {monitor_.handle(), 0, ZMQ_POLLIN, 0}};
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        zmq::poll(items, 2, std::max(left, std::chrono::milliseconds(0)));
+        if (!(items[0].revents & ZMQ_POLLIN)) {
+            if (items[1].revents & ZMQ_POLLIN) {
+                const int event = read_event(monitor_);
+                if (event == ZMQ_EVENT_CONNECTED || event == ZMQ_EVENT_ACCEPTED) connected_ = true;
+                if (event == ZMQ_EVENT_DISCONNECTED && connected_) {
+                    // Whatever the peer sent before it went is read first.
+                    zmq::poll(items, 1, std::chrono::milliseconds(200));
+                    if (!(items[0].revents & ZMQ_POLLIN))
+                        throw CouplingError(peer_ + " closed the connection" + at + " (waiting for " +
+                                            body_name(expected) + "): its process ended or was killed");
+                } else {
+                    continue;
+                }
+            } else {
+                throw CouplingError(peer_ + " did not answer within " +
+                                    std::to_string(timeout_ms_ / 1000.0).substr(0, 5) + " s" + at +
+                                    " (waiting for " + body_name(expected) + ")");
+            }
+        }
         zmq::message_t frame;
         if (!socket_.recv(frame, zmq::recv_flags::none)) continue;
         Envelope e;
@@ -111,7 +143,10 @@ Envelope Channel::receive(std::int64_t step, Envelope::BodyCase expected) {
                                 ", this side version " + std::to_string(protocol_version) + at);
         if (e.has_error())
             throw CouplingError(peer_ + " stopped with an error" + at + ": " + e.error().message());
-        if (e.has_heartbeat()) continue;
+        if (e.has_heartbeat()) {
+            deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms_);
+            continue;
+        }
         if (e.has_stop()) return e;
         if (e.body_case() != expected || e.step() != step)
             throw CouplingError(peer_ + " sent " + body_name(e.body_case()) + " of step " +

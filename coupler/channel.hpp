@@ -1,8 +1,10 @@
 // One end of a coupling connection, internal to the coupler library: a ZeroMQ PAIR socket carrying one
 // serialised coupling Envelope (proto/coupling.proto) per frame, with a receive timeout that heartbeats
-// renew. Every failure throws CouplingError naming the peer, the step and the cause.
+// renew, and a monitor of the connection so that a peer whose process ends is noticed without waiting for the
+// timeout. Every failure throws CouplingError naming the peer, the step and the cause.
 #pragma once
 #include "coupling.pb.h"
+#include "participant.hpp"
 
 #include <zmq.hpp>
 
@@ -12,11 +14,8 @@
 
 namespace undex::coupling {
 
-constexpr std::uint32_t protocol_version = 1;
+using wire::Envelope;
 
-struct CouplingError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
 
 class Channel {
   public:
@@ -38,10 +37,13 @@ class Channel {
     const std::string& peer() const { return peer_; }
     // The endpoint as bound or connected (a tcp://HOST:* binding shows its port here).
     const std::string& endpoint() const { return endpoint_; }
+    void set_timeout(int timeout_ms) { timeout_ms_ = timeout_ms; }
 
   private:
     zmq::context_t context_;
     zmq::socket_t socket_;
+    zmq::socket_t monitor_; // connection events of socket_: a vanished peer ends a wait at once
+    bool connected_ = false;
     std::string endpoint_, peer_, ipc_path_;
     int timeout_ms_;
 };

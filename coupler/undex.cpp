@@ -1,6 +1,8 @@
 // undex: the command-line front end.
 //   undex check CASE [--set key=value]...      validate a case without running it
-//   undex run CASE [--set key=value]...        run a case (starts the solver process the case needs)
+//   undex run CASE [--set key=value]... [--tcp | --endpoint E]
+//                                              run a case: the solver process a single-field case needs, or
+//                                              the fluid and structure processes of a coupled case
 //   undex sample DIR --time T --line "x0,y0 x1,y1" --points N [--fields rho,u,v,p]
 //   undex gauges DIR [--name NAME]
 //   undex options                              list the named choices of a case file
@@ -11,12 +13,20 @@
 #include "setup.hpp"
 #include "structure_setup.hpp"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -27,7 +37,7 @@ namespace {
 
 const char* usage = "usage:\n"
                     "  undex check CASE [--set key=value]...\n"
-                    "  undex run CASE [--set key=value]...\n"
+                    "  undex run CASE [--set key=value]... [--tcp | --endpoint ENDPOINT]\n"
                     "  undex sample DIR --time T --line \"x0,y0 x1,y1\" --points N [--fields rho,u,v,p]\n"
                     "  undex gauges DIR [--name NAME]\n"
                     "  undex options\n";
@@ -47,6 +57,8 @@ Args parse(int argc, char** argv, int first) {
             const auto eq = key.find('=');
             if (eq != std::string::npos)
                 value = key.substr(eq + 1), key = key.substr(0, eq);
+            else if (key == "tcp") // a flag
+                value = "1";
             else if (k + 1 < argc)
                 value = argv[++k];
             else
@@ -80,7 +92,7 @@ Parts check_parts(const undex::CaseFile& c) {
     if (!p.fluid && !p.structure)
         c.fail("regions", "the case models nothing: give fluid regions or a structure");
     if (p.fluid) undex::fluid::validate(c);
-    if (p.structure) undex::solid::make_structure(c);
+    if (p.structure) undex::solid::check_structure(c);
     return p;
 }
 
@@ -89,7 +101,14 @@ int check(const Args& a) {
     const auto c = undex::CaseFile::load(a.positional[0], a.overrides);
     const Parts parts = check_parts(c);
     const auto& m = c.get();
-    if (parts.structure) {
+    const auto& st = m.structure();
+    if (parts.structure && (st.has_rigid_plate() || st.has_command())) {
+        std::cout << a.positional[0] << ": ok: structure ";
+        if (st.has_rigid_plate())
+            std::cout << "rigid plate of " << st.rigid_plate().mass_per_area() << " kg/m² (undex-rigid); ";
+        else
+            std::cout << "solver '" << st.command() << "'; ";
+    } else if (parts.structure) {
         const auto s = undex::solid::make_structure(c);
         std::cout << a.positional[0] << ": ok: structure of " << m.structure().layers_size() << " layer(s), "
                   << (s.plate ? s.plate->element_count() : s.column->element_count()) << " elements"
@@ -112,18 +131,170 @@ int check(const Args& a) {
     return 0;
 }
 
-int run(const Args& a, char** argv) {
+// A child process whose stdout and stderr arrive on one pipe.
+struct Child {
+    std::string name;      // the prefix of its lines
+    pid_t pid = -1;
+    int fd = -1;           // read end of its output
+    std::string pending;   // an incomplete last line
+    std::ofstream log;     // <output>/<name>.log
+    int status = -1;       // exit code once ended (128 + signal when killed)
+    bool ended = false;
+};
+
+void spawn(Child& c, const std::vector<std::string>& args) {
+    int fds[2];
+    if (pipe(fds) != 0) throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
+    std::vector<char*> argv;
+    std::vector<std::string> copy = args;
+    for (auto& s : copy)
+        argv.push_back(s.data());
+    argv.push_back(nullptr);
+    const pid_t pid = fork();
+    if (pid < 0) throw std::runtime_error(std::string("cannot start a process: ") + std::strerror(errno));
+    if (pid == 0) {
+        dup2(fds[1], 1);
+        dup2(fds[1], 2);
+        close(fds[0]);
+        close(fds[1]);
+        execvp(argv[0], argv.data());
+        std::fprintf(stderr, "undex: cannot start %s: %s\n", argv[0], std::strerror(errno));
+        _exit(127);
+    }
+    close(fds[1]);
+    c.pid = pid;
+    c.fd = fds[0];
+}
+
+// Passes complete lines of c's output to the terminal (prefixed) and to its log; false at end of output.
+bool pump(Child& c) {
+    char buf[65536];
+    const ssize_t n = read(c.fd, buf, sizeof buf);
+    if (n <= 0) {
+        if (!c.pending.empty()) c.pending += "\n";
+    } else {
+        c.pending.append(buf, static_cast<size_t>(n));
+    }
+    size_t from = 0;
+    for (size_t nl; (nl = c.pending.find('\n', from)) != std::string::npos; from = nl + 1) {
+        const std::string line = c.pending.substr(from, nl - from);
+        c.log << line << '\n';
+        std::cout << c.name << " | " << line << '\n';
+    }
+    c.pending.erase(0, from);
+    std::cout.flush();
+    c.log.flush();
+    return n > 0;
+}
+
+bool reap(Child& c, bool block) {
+    if (c.ended) return true;
+    int st = 0;
+    const pid_t r = waitpid(c.pid, &st, block ? 0 : WNOHANG);
+    if (r != c.pid) return false;
+    c.ended = true;
+    c.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    return true;
+}
+
+// A free tcp port on this host (bound and released; the fluid binds it right after).
+int free_tcp_port() {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    addr.sin_port = 0;
+    socklen_t len = sizeof addr;
+    if (fd < 0 || bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
+        getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) != 0)
+        throw std::runtime_error("cannot find a free tcp port");
+    close(fd);
+    return ntohs(addr.sin_port);
+}
+
+// Runs the fluid and the structure process of a coupled case side by side (docs/protocol.md).
+int run_coupled(const Args& a, const undex::CaseFile& c, const std::filesystem::path& bin) {
+    std::string endpoint;
+    if (a.options.count("endpoint"))
+        endpoint = a.options.at("endpoint");
+    else if (a.options.count("tcp"))
+        endpoint = "tcp://127.0.0.1:" + std::to_string(free_tcp_port());
+    else
+        endpoint = "ipc://" + (std::filesystem::temp_directory_path() /
+                               ("undex-" + std::to_string(getpid()) + ".ipc"))
+                                  .string();
+    const auto plan = undex::fluid::plan(c);
+    std::filesystem::create_directories(plan.directory);
+    const auto& st = c.get().structure();
+    std::vector<std::string> fluid = {(bin / "undex-fluid").string(), a.positional[0]}, solid;
+    if (st.has_command()) {
+        solid = {"/bin/sh", "-c", "exec " + st.command() + " --couple '" + endpoint + "'"};
+    } else {
+        solid = {(bin / (st.has_rigid_plate() ? "undex-rigid" : "undex-solid")).string(), a.positional[0]};
+    }
+    for (const auto& o : a.overrides) {
+        fluid.insert(fluid.end(), {"--set", o});
+        if (!st.has_command()) solid.insert(solid.end(), {"--set", o});
+    }
+    fluid.insert(fluid.end(), {"--couple", endpoint});
+    if (!st.has_command()) solid.insert(solid.end(), {"--couple", endpoint});
+    Child children[2];
+    children[0].name = "fluid";
+    children[1].name = "solid";
+    std::cout << "undex: " << a.positional[0] << ": coupled run over " << endpoint << "; logs "
+              << plan.directory << "/fluid.log, " << plan.directory << "/solid.log" << std::endl;
+    for (int k = 0; k < 2; ++k) {
+        children[k].log.open(std::filesystem::path(plan.directory) / (children[k].name + ".log"));
+        spawn(children[k], k == 0 ? fluid : solid);
+    }
+    // Interleave the output until both pipes close; when one side fails, the other gets a grace period to
+    // notice (it writes its last output), then is stopped.
+    bool open[2] = {true, true};
+    std::chrono::steady_clock::time_point failed_at{};
+    bool any_failed = false, stopped = false;
+    while (open[0] || open[1] || !children[0].ended || !children[1].ended) {
+        pollfd fds[2];
+        int n = 0, which[2];
+        for (int k = 0; k < 2; ++k)
+            if (open[k]) fds[n] = {children[k].fd, POLLIN, 0}, which[n++] = k;
+        if (n > 0) poll(fds, n, 200);
+        else usleep(50000);
+        for (int i = 0; i < n; ++i)
+            if (fds[i].revents & (POLLIN | POLLHUP | POLLERR))
+                if (!pump(children[which[i]])) open[which[i]] = false, close(children[which[i]].fd);
+        for (auto& ch : children)
+            if (reap(ch, false) && ch.status != 0 && !any_failed)
+                any_failed = true, failed_at = std::chrono::steady_clock::now();
+        if (any_failed && !stopped &&
+            std::chrono::steady_clock::now() - failed_at > std::chrono::seconds(5)) {
+            for (auto& ch : children)
+                if (!ch.ended) {
+                    std::cout << "undex: stopping " << ch.name << " (the other side failed)" << std::endl;
+                    kill(ch.pid, SIGTERM);
+                }
+            stopped = true;
+        }
+    }
+    int code = 0;
+    for (const auto& ch : children)
+        if (ch.status != 0) {
+            std::cout << "undex: " << ch.name << " ended with exit code " << ch.status << std::endl;
+            if (code == 0) code = ch.status;
+        }
+    if (code == 0) std::cout << "undex: done: output in " << plan.directory << std::endl;
+    return code;
+}
+
+int run(const Args& a) {
     if (a.positional.size() != 1) throw std::invalid_argument("run needs one CASE");
     // Check the case here so that a bad case is reported before any process starts.
     const auto c = undex::CaseFile::load(a.positional[0], a.overrides);
     const Parts parts = check_parts(c);
-    if (parts.structure && parts.fluid)
-        throw std::runtime_error(a.positional[0] + ": a fluid with a structure needs the coupler, which this "
-                                                   "version does not have yet; each part alone runs");
+    const auto bin = std::filesystem::read_symlink("/proc/self/exe").parent_path();
+    if (parts.structure && parts.fluid) return run_coupled(a, c, bin);
     // A single-field case needs only its own process.
-    const auto self = std::filesystem::read_symlink("/proc/self/exe");
-    const std::string fluid = (self.parent_path() / (parts.fluid ? "undex-fluid" : "undex-solid")).string();
-    std::vector<std::string> args = {fluid, a.positional[0]};
+    const std::string exe = (bin / (parts.fluid ? "undex-fluid" : "undex-solid")).string();
+    std::vector<std::string> args = {exe, a.positional[0]};
     for (const auto& o : a.overrides)
         args.insert(args.end(), {"--set", o});
     std::vector<char*> cargs;
@@ -131,9 +302,8 @@ int run(const Args& a, char** argv) {
         cargs.push_back(s.data());
     cargs.push_back(nullptr);
     std::cout.flush();
-    execv(fluid.c_str(), cargs.data());
-    std::cerr << "undex: error: cannot start " << fluid << ": " << std::strerror(errno) << "\n";
-    (void)argv;
+    execv(exe.c_str(), cargs.data());
+    std::cerr << "undex: error: cannot start " << exe << ": " << std::strerror(errno) << "\n";
     return 1;
 }
 
@@ -279,7 +449,7 @@ int main(int argc, char** argv) {
     try {
         const Args a = parse(argc, argv, 2);
         if (cmd == "check") return check(a);
-        if (cmd == "run") return run(a, argv);
+        if (cmd == "run") return run(a);
         if (cmd == "sample") return sample(a);
         if (cmd == "gauges") return gauges(a);
         if (cmd == "options") return options();

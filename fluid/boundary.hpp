@@ -51,6 +51,31 @@ inline void pressure_ghost(const double* in, double* out, int side, double p_b, 
     out[(NV - 1) * NB] = eos.internal_energy(rho_b, p_b) + 0.5 * rho_b * (vel[0] * vel[0] + vel[1] * vel[1]);
 }
 
+// Ghost state of the structure's interface (physics.md §5): the pressure p_I and normal velocity u_I of the
+// structure, density on the isentrope of the interior cell average. Between the interior trace and this
+// state the face's Riemann problem returns (p_I, u_I) when they satisfy the characteristic relation.
+template <int D, int K, class Eos>
+inline void structure_ghost(const double* in, double* out, int side, double p_I, double u_I, const Eos& eos) {
+    using B = Basis<D, K>;
+    constexpr int NV = D + 2, NB = B::NB;
+    const int dir = side / 2;
+    const double rho = in[0];
+    double vel[2] = {in[NB] / rho, D == 2 ? in[2 * NB] / rho : 0.0};
+    const double ke = 0.5 * rho * (vel[0] * vel[0] + vel[1] * vel[1]);
+    const double p = eos.pressure(rho, in[(NV - 1) * NB] - ke);
+    double rho_b;
+    if constexpr (Eos::barotropic) { // a wall held at the cavitation pressure keeps the mixture's density
+        rho_b = eos.cavitation && p_I <= eos.cav.p_cav ? std::min(rho, eos.cav.rho_l_cav) : eos.density(p_I);
+    } else {
+        rho_b = rho * std::pow((p_I + eos.p_inf) / (p + eos.p_inf), 1.0 / eos.gamma);
+    }
+    vel[dir] = side % 2 == 0 ? -u_I : u_I; // u_I is along the normal into the structure
+    for (int i = 0; i < NV * NB; ++i) out[i] = 0.0;
+    out[0] = rho_b;
+    for (int d = 0; d < D; ++d) out[(1 + d) * NB] = rho_b * vel[d];
+    out[(NV - 1) * NB] = eos.internal_energy(rho_b, p_I) + 0.5 * rho_b * (vel[0] * vel[0] + vel[1] * vel[1]);
+}
+
 } // namespace detail
 
 template <int D, int K, class Eos>
@@ -80,6 +105,9 @@ void fill_ghosts(const Mesh& m, double* U, const std::array<Boundary, 4>& bc, co
             case BoundaryType::Wall:
             case BoundaryType::Symmetry: detail::mirror<D, K>(in, g, dir, true); break;
             case BoundaryType::Pressure: detail::pressure_ghost<D, K>(in, g, side, p_b, eos); break;
+            case BoundaryType::Structure:
+                detail::structure_ghost<D, K>(in, g, side, bc[side].p_I, bc[side].u_I, eos);
+                break;
             case BoundaryType::Periodic: {
                 const int pi = dir == 0 ? (high ? 0 : m.nx - 1) : s;
                 const int pj = dir == 1 ? (high ? 0 : m.ny - 1) : s;

@@ -30,6 +30,9 @@ class Output {
     void record_gauges(const FluidSolver& solver);
     void write_gauges();
     void set_status(const std::string& status);
+    // A table as one dataset per column in group (created on first use), rows interleaved in data.
+    void write_table(const std::string& group, const std::vector<std::string>& columns,
+                     const std::vector<double>& data);
     const std::string& path() const { return h5_path_; }
 
   private:

@@ -1,6 +1,8 @@
-// Running a fluid-only case from start to end with output, gauges and progress lines.
+// Running a case's fluid from start to end with output, gauges and progress lines, alone or coupled to a
+// structure solver.
 #pragma once
 #include <iosfwd>
+#include <string>
 
 namespace undex {
 class CaseFile;
@@ -8,8 +10,9 @@ class CaseFile;
 
 namespace undex::fluid {
 
-// Returns 0 on success, 2 when the solver met a state it cannot hold (after writing the last good state).
-// Throws CaseError for a bad case (before anything is written).
-int run(const CaseFile& c, std::ostream& log);
+// Returns 0 on success, 2 when the solver met a state it cannot hold, 3 when the coupling failed (both after
+// writing the last good state). Throws CaseError for a bad case (before anything is written). A case with a
+// structure couples through the endpoint couple (the fluid binds it; docs/protocol.md).
+int run(const CaseFile& c, std::ostream& log, const std::string& couple = "");
 
 } // namespace undex::fluid

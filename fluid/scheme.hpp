@@ -219,6 +219,21 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
         return primitive(q);
     }
 
+    double sound_speed(double x, double y) const override {
+        const Primitive w = evaluate(x, y);
+        return eos_.sound_speed(w.rho, w.p);
+    }
+
+    double pressure_floor() const override {
+        if constexpr (Eos::barotropic) return eos_.cavitation ? eos_.cav.p_cav : eos_.A - eos_.B;
+        else return -eos_.p_inf;
+    }
+
+    void set_structure_state(double p_I, double u_I) override {
+        for (auto& b : bc_)
+            if (b.type == BoundaryType::Structure) b.p_I = p_I, b.u_I = u_I;
+    }
+
     Primitive cell_average(int i, int j) const override {
         const double* c = cell(u_.data(), i, j);
         double q[NV];

@@ -274,6 +274,19 @@ void validate(const CaseFile& cf) {
     const auto& b = c.boundaries();
     validate_boundary(cf, b.x_min(), "boundaries.x_min");
     validate_boundary(cf, b.x_max(), "boundaries.x_max");
+    for (const auto* side : {&b.x_min(), &b.y_min(), &b.y_max()})
+        if (side->type() == cfg::Boundary::STRUCTURE)
+            cf.fail(side == &b.x_min() ? "boundaries.x_min" : side == &b.y_min() ? "boundaries.y_min" : "boundaries.y_max",
+                    "the structure's wet face is the x_max side (STRUCTURE there)");
+    if (b.x_max().type() == cfg::Boundary::STRUCTURE) {
+        if (!c.has_structure())
+            cf.fail("boundaries.x_max", "a STRUCTURE boundary needs a structure in the case");
+        if (c.geometry() != cfg::PLANAR_1D)
+            cf.fail("boundaries.x_max", "coupling to a structure is available in PLANAR_1D cases for now");
+    } else if (c.has_structure()) {
+        cf.fail("boundaries.x_max", "with a structure in the case, the fluid's x_max side is its wet face: "
+                                    "STRUCTURE");
+    }
     if (two_d) {
         if (!b.has_y_min() || !b.has_y_max())
             cf.fail("boundaries", "a 2D case needs y_min and y_max boundaries");
@@ -398,6 +411,9 @@ Boundary boundary(const cfg::Boundary& b) {
         break;
     case cfg::Boundary::PERIODIC:
         out.type = BoundaryType::Periodic;
+        break;
+    case cfg::Boundary::STRUCTURE:
+        out.type = BoundaryType::Structure;
         break;
     default:
         out.type = BoundaryType::Transmissive;

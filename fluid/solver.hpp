@@ -17,11 +17,12 @@ struct SolverFailure : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-enum class BoundaryType { Transmissive, Wall, Symmetry, Pressure, Periodic };
+enum class BoundaryType { Transmissive, Wall, Symmetry, Pressure, Periodic, Structure };
 
 struct Boundary {
     BoundaryType type = BoundaryType::Transmissive;
     std::function<double(double)> pressure; // p(t) for BoundaryType::Pressure
+    double p_I = 0, u_I = 0;                // the structure's interface pressure and normal velocity
 };
 
 enum class Indicator { Tvb, All, None };
@@ -77,6 +78,12 @@ class FluidSolver {
     virtual std::vector<double> totals() const = 0;
     // Number of cells the indicator marked in the last step (all stages).
     virtual long troubled_cells() const = 0;
+    // Primitive state and sound speed at (x, y) from the DG polynomial (the fluid side of an interface).
+    virtual double sound_speed(double x, double y) const = 0;
+    // The lowest pressure the fluid can hold: the cavitation pressure, or where ρ or p + P∞ reach 0.
+    virtual double pressure_floor() const = 0;
+    // The interface pressure and velocity of the structure on the STRUCTURE side(s), held over the next step.
+    virtual void set_structure_state(double p_I, double u_I) = 0;
     // Level set φ at the interior cell centres (index j·nx + i) of a two-fluid run; empty for one fluid.
     virtual std::vector<double> level_set() const { return {}; }
     virtual void set_level_set(const std::vector<double>& /*phi*/) {}

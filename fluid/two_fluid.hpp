@@ -151,6 +151,19 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
         j = std::clamp(j, 0, mesh_.ny - 1);
         return phi_(i, j) < 0 ? minus_.evaluate(x, y) : plus_.evaluate(x, y);
     }
+    double sound_speed(double x, double y) const override {
+        int i = static_cast<int>(std::floor((x - mesh_.x_min) / mesh_.dx));
+        int j = D == 2 ? static_cast<int>(std::floor((y - mesh_.y_min) / mesh_.dy)) : 0;
+        i = std::clamp(i, 0, mesh_.nx - 1);
+        j = std::clamp(j, 0, mesh_.ny - 1);
+        return phi_(i, j) < 0 ? minus_.sound_speed(x, y) : plus_.sound_speed(x, y);
+    }
+    double pressure_floor() const override { return std::max(minus_.pressure_floor(), plus_.pressure_floor()); }
+    void set_structure_state(double p_I, double u_I) override {
+        minus_.set_structure_state(p_I, u_I);
+        plus_.set_structure_state(p_I, u_I);
+    }
+
     Primitive cell_average(int i, int j) const override {
         return phi_(i, j) < 0 ? minus_.cell_average(i, j) : plus_.cell_average(i, j);
     }

@@ -8,6 +8,7 @@
 // Strain increments are logarithmic: Δε = Δl / l over the mean length of the step, so large foam
 // compressions are measured correctly.
 #pragma once
+#include "interface_node.hpp"
 #include "material.hpp"
 
 #include <cmath>
@@ -95,16 +96,23 @@ class Column1D {
     }
 
     // One central-difference step: v^{n+1/2} = v^{n−1/2} + Δt a^n (half a step at the start), then
-    // u^{n+1} = u^n + Δt v^{n+1/2}, then the forces and accelerations at n+1.
-    void step(double dt) {
+    // u^{n+1} = u^n + Δt v^{n+1/2}, then the forces and accelerations at n+1. With a fluid on the front
+    // face, node 0 is solved with the interface condition of physics.md §5 (interface_node.hpp, wetted area
+    // 1 per unit area) and the interface pressure and velocity of the step are returned.
+    InterfaceSolution step(double dt, const FluidCharacteristic* fluid = nullptr) {
         if (steps_ == 0) forces(time_, u_); // a^0
         const size_t n = x_.size();
         const double h = steps_ == 0 ? 0.5 * dt : 0.5 * (dt + last_dt_);
         // Trial velocities and increments; the state is changed only once every element is known to stay
         // valid, so that a failure leaves the last good state in place.
         std::vector<double> v(n), du(n);
+        InterfaceSolution wet;
         for (size_t i = 0; i < n; ++i) {
             v[i] = v_[i] + h * a_[i];
+            if (i == 0 && fluid) {
+                wet = solve_interface_node(mass_[0], v_[0], h, force_[0] - front_load_, 1.0, *fluid);
+                v[0] = wet.u_I;
+            }
             if ((i == 0 && face_[0] == Face1D::Fixed) || (i + 1 == n && face_[1] == Face1D::Fixed)) v[i] = 0;
             du[i] = dt * v[i];
             if (!std::isfinite(du[i])) {
@@ -129,6 +137,8 @@ class Column1D {
             const double sign = side == 0 ? 1.0 : -1.0;
             en_.external += 0.5 * (pressure_[side](time_) + pressure_[side](time_ + dt)) * sign * du[i];
         }
+        front_load_ = fluid ? wet.p_I : 0.0;
+        en_.external += front_load_ * du[0];
         // Element updates: strain increments over the mean length, stress, internal and plastic work.
         for (size_t e = 0; e < elements_.size(); ++e) {
             const auto& el = elements_[e];
@@ -149,6 +159,7 @@ class Column1D {
         ++steps_;
         forces(time_, u_);
         en_.kinetic = kinetic_at_step(dt);
+        return wet;
     }
 
   private:
@@ -167,6 +178,7 @@ class Column1D {
     std::function<double(double)> pressure_[2];
     Energies en_;
     double time_ = 0, last_dt_ = 0;
+    double front_load_ = 0; // the fluid's pressure on the front face in the last step (in a_ as an estimate)
     long steps_ = 0;
 
     void update_point(const Element& el, double deps, double dt, PointState& p) const {
@@ -198,6 +210,7 @@ class Column1D {
             force_[e + 1] -= s;
         }
         if (pressure_[0]) force_[0] += pressure_[0](t);
+        force_[0] += front_load_;
         if (pressure_[1]) force_[n - 1] -= pressure_[1](t);
         for (size_t i = 0; i < n; ++i)
             a_[i] = force_[i] / mass_[i];

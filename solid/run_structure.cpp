@@ -3,6 +3,7 @@
 #include "case.pb.h"
 #include "case_file.hpp"
 #include "h5.hpp"
+#include "participant.hpp"
 #include "setup.hpp"
 #include "structure_setup.hpp"
 
@@ -197,6 +198,14 @@ class StructureOutput {
         }
         H5Fflush(file_, H5F_SCOPE_GLOBAL);
     }
+    // A table of one dataset per column in group.
+    void write_group_table(const std::string& group, const std::vector<std::string>& columns,
+                     const std::vector<double>& data) {
+        if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) <= 0)
+            H5Gclose(H5Gcreate2(file_, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+        write_table(group.c_str(), columns, data);
+        H5Fflush(file_, H5F_SCOPE_GLOBAL);
+    }
     void set_status(const std::string& s) {
         h5::write_attr_string(file_, "status", s);
         H5Fflush(file_, H5F_SCOPE_GLOBAL);
@@ -296,14 +305,20 @@ struct Stepper {
     double time() const { return m.plate ? m.plate->time() : m.column->time(); }
     long steps() const { return m.plate ? m.plate->steps() : m.column->steps(); }
     const Energies& energies() const { return m.plate ? m.plate->energies() : m.column->energies(); }
-    void step(double dt) { m.plate ? m.plate->step(dt) : m.column->step(dt); }
+    void step(double dt) { m.plate ? m.plate->step(dt) : (void)m.column->step(dt); }
+    Column1D& column() { return *m.column; }
 };
 
 } // namespace
 
-int run_structure(const CaseFile& c, std::ostream& log) {
+int run_structure(const CaseFile& c, std::ostream& log, const std::string& couple) {
     StructureModel model = make_structure(c); // checks the whole structure part first
     const auto p = fluid::plan(c);
+    if (model.wet && couple.empty())
+        c.fail("structure.front", "the structure is coupled to the case's fluid: run it with `undex run`, or give "
+                                  "undex-solid --couple ENDPOINT with the fluid solver bound there");
+    if (!model.wet && !couple.empty())
+        c.fail("structure.front", "--couple needs a front face wetted by a fluid (FLUID)");
 #ifdef _OPENMP
     if (model.threads > 0) omp_set_num_threads(model.threads);
     const int threads = omp_get_max_threads();
@@ -319,49 +334,94 @@ int run_structure(const CaseFile& c, std::ostream& log) {
         log << "undex-solid: " << c.path() << ": 1D column, " << model.column->element_count() << " elements";
     log << ", time step " << fmt("%.4g", model.dt) << " s, end time " << p.end_time << " s, output "
         << p.directory << "/solid.h5" << std::endl;
+
+    // The fluid, when the front face is wet: node 0 is the interface node, its normal +x.
+    std::unique_ptr<coupling::StructureParticipant> link;
+    if (model.wet) {
+        coupling::Options o;
+        o.endpoint = couple;
+        o.timeout_ms = static_cast<int>(1000 * c.get().coupling().timeout());
+        o.handshake_timeout_ms = static_cast<int>(1000 * c.get().coupling().handshake_timeout());
+        link = std::make_unique<coupling::StructureParticipant>(o, "undex-solid", "0.1.0");
+        coupling::Interface i;
+        i.x = {0.0}, i.y = {0.0}, i.normal_x = {1.0}, i.normal_y = {0.0}, i.area = {1.0};
+        link->initialize(i);
+        log << "undex-solid: coupled to " << link->peer_solver() << " on " << couple << std::endl;
+    }
+
     StructureOutput out(p.directory, c.text(), model);
     for (const auto& g : c.get().structure().gauges())
         out.add_gauge(g.name(), g.x(), g.y());
     out.record(s.time(), s.energies());
     out.write_fields(s.time(), s.steps());
+    std::vector<double> history; // t, dt, p_I, u_I per coupled step
+    const std::vector<std::string> history_columns = {"t", "dt", "p_I", "u_I"};
+    auto fail = [&](const std::string& msg, int code) {
+        if (link && code != 3) link->fail(msg);
+        out.write_fields(s.time(), s.steps(), true);
+        if (link) out.write_group_table("coupling", history_columns, history);
+        out.set_status("failed: " + msg);
+        log << "undex-solid: error: " << msg << "\nundex-solid: the last good state (t = " << fmt("%.9g", s.time())
+            << " s, step " << s.steps() << ") is in " << out.path() << std::endl;
+        return code;
+    };
     const auto start = std::chrono::steady_clock::now();
     auto last_progress = start;
     size_t next = 0;
-    while (s.time() < p.end_time * (1 - 1e-14)) {
-        const double target = p.output_times[next];
-        double dt = model.dt;
-        const bool hits = s.time() + dt >= target * (1 - 1e-12);
-        if (hits) dt = target - s.time();
-        try {
-            s.step(dt); // on failure the model is left at its last good state
-        } catch (const StructureFailure& f) {
-            out.write_fields(s.time(), s.steps(), true);
-            out.set_status(std::string("failed: ") + f.what());
-            log << "undex-solid: error: " << f.what()
-                << "\nundex-solid: the last good state (t = " << fmt("%.9g", s.time()) << " s, step "
-                << s.steps() << ") is in " << out.path() << std::endl;
-            return 2;
+    try {
+        for (;;) {
+            double dt = model.dt;
+            bool hits = false;
+            coupling::Grant g;
+            FluidCharacteristic fluid;
+            if (link) { // the fluid owns the clock: it grants the step and asks for outputs
+                coupling::Offer o;
+                o.dt = dt, o.x = {s.column().displacement(0)}, o.y = {0.0}, o.velocity = {s.column().velocity(0)};
+                if (!link->exchange(o, g)) break;
+                dt = g.dt, hits = g.output;
+                fluid = {g.p_L[0], g.u_L[0], g.Z_L[0], g.geometric[0], g.p_floor};
+            } else {
+                if (!(s.time() < p.end_time * (1 - 1e-14))) break;
+                const double target = p.output_times[next];
+                hits = s.time() + dt >= target * (1 - 1e-12);
+                if (hits) dt = target - s.time(), ++next;
+            }
+            InterfaceSolution wet;
+            try {
+                // On failure the model is left at its last good state.
+                if (link) wet = model.column->step(dt, &fluid);
+                else s.step(dt);
+            } catch (const StructureFailure& f) {
+                return fail(f.what(), 2);
+            }
+            if (link) {
+                link->answer({{wet.p_I}, {wet.u_I}, {s.column().displacement(0)}, {0.0}});
+                history.insert(history.end(), {s.time() - dt, dt, wet.p_I, wet.u_I});
+            }
+            if (s.steps() % p.gauge_every == 0 || hits) out.record(s.time(), s.energies());
+            if (hits) {
+                out.write_fields(s.time(), s.steps());
+                if (link) out.write_group_table("coupling", history_columns, history);
+            }
+            const auto now = std::chrono::steady_clock::now();
+            if (std::chrono::duration<double>(now - last_progress).count() >= p.progress_seconds ||
+                s.time() >= p.end_time * (1 - 1e-14)) {
+                const double wall = std::chrono::duration<double>(now - start).count(),
+                             frac = s.time() / p.end_time;
+                log << "step " << s.steps()
+                    << fmt("  t = %.4e s (%5.1f%%)  wall %.1f s  left ~%.1f s", s.time(), 100 * frac, wall,
+                           frac > 0 ? wall * (1 - frac) / frac : 0.0)
+                    << "  energy balance error "
+                    << fmt("%.2e", s.energies().balance_error() / std::max(s.energies().external, 1e-300))
+                    << std::endl;
+                last_progress = now;
+            }
         }
-        if (s.steps() % p.gauge_every == 0 || hits) out.record(s.time(), s.energies());
-        if (hits) {
-            out.write_fields(s.time(), s.steps());
-            ++next;
-        }
-        const auto now = std::chrono::steady_clock::now();
-        if (std::chrono::duration<double>(now - last_progress).count() >= p.progress_seconds ||
-            s.time() >= p.end_time * (1 - 1e-14)) {
-            const double wall = std::chrono::duration<double>(now - start).count(),
-                         frac = s.time() / p.end_time;
-            log << "step " << s.steps()
-                << fmt("  t = %.4e s (%5.1f%%)  wall %.1f s  left ~%.1f s", s.time(), 100 * frac, wall,
-                       frac > 0 ? wall * (1 - frac) / frac : 0.0)
-                << "  energy balance error "
-                << fmt("%.2e", s.energies().balance_error() / std::max(s.energies().external, 1e-300))
-                << std::endl;
-            last_progress = now;
-        }
+    } catch (const coupling::CouplingError& e) {
+        return fail(std::string("coupling: ") + e.what(), 3);
     }
     out.write_tables();
+    if (link) out.write_group_table("coupling", history_columns, history);
     out.set_status("complete");
     log << "undex-solid: done: " << s.steps() << " steps, wall "
         << fmt("%.3f", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count())

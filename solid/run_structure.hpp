@@ -1,6 +1,7 @@
 // Runs a structure-only case (a 1D layered column or a 2D layered plate) with output: undex-solid.
 #pragma once
 #include <ostream>
+#include <string>
 
 namespace undex {
 class CaseFile;
@@ -27,6 +28,8 @@ namespace undex::solid {
 //                   the attribute columns of /gauges lists them
 // Returns 0 when complete, 2 when the run stopped on a state the method cannot hold (after writing the last
 // good state).
-int run_structure(const CaseFile& c, std::ostream& log);
+//   /coupling       t, dt, p_I, u_I of every step of a run coupled to a fluid (front face FLUID) through the
+//                   endpoint couple (the fluid binds it; docs/protocol.md); returns 3 when the coupling failed.
+int run_structure(const CaseFile& c, std::ostream& log, const std::string& couple = "");
 
 } // namespace undex::solid

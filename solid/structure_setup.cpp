@@ -76,6 +76,13 @@ const char* law_field(const cfg::SolidMaterial& m) {
 
 void check_face(const CaseFile& cf, const cfg::SolidFace& f, const std::string& path) {
     if (f.type() == cfg::SolidFace::TYPE_UNSET) cf.fail(path + ".type", "face type is not set");
+    const bool front = path == "structure.front";
+    if (f.type() == cfg::SolidFace::FLUID && !front)
+        cf.fail(path + ".type", "only the front face can be wetted by the fluid (FLUID)");
+    if (f.type() == cfg::SolidFace::FLUID && !has_fluid(cf))
+        cf.fail(path + ".type", "a FLUID face needs a fluid in the case (regions, domain, boundaries)");
+    if (front && has_fluid(cf) && f.type() != cfg::SolidFace::FLUID)
+        cf.fail(path + ".type", "with a fluid in the case the front face is the wet one: FLUID");
     if (f.type() == cfg::SolidFace::PRESSURE) {
         if (!f.has_pressure()) cf.fail(path, "a PRESSURE face needs a 'pressure' history");
         fluid::validate_pressure_history(cf, f.pressure(), path + ".pressure");
@@ -124,10 +131,60 @@ void apply_plate_conditions(const cfg::Structure& st, StructureModel& m) {
 
 } // namespace
 
+RigidPlateModel make_rigid_plate(const CaseFile& cf) {
+    const auto& c = cf.get();
+    const auto& st = c.structure();
+    if (!st.has_rigid_plate()) cf.fail("structure.rigid_plate", "the structure is not a rigid plate");
+    if (c.geometry() != cfg::PLANAR_1D) cf.fail("geometry", "a rigid plate is a 1D structure: PLANAR_1D");
+    if (st.materials_size()) cf.fail("structure.materials", "a rigid plate has no materials");
+    if (st.layers_size()) cf.fail("structure.layers", "a rigid plate has no layers");
+    if (st.has_plate()) cf.fail("structure.plate", "a rigid plate has no 'plate' mesh");
+    if (st.gauges_size()) cf.fail("structure.gauges", "a rigid plate has no gauges (its history is rigid.h5)");
+    check_face(cf, st.front(), "structure.front");
+    if (st.front().type() != cfg::SolidFace::FLUID)
+        cf.fail("structure.front.type", "a rigid plate is driven by the fluid: its front face is FLUID");
+    if (st.back().type() != cfg::SolidFace::FREE)
+        cf.fail("structure.back.type", "a rigid plate's back face is FREE (its back_pressure acts there)");
+    const auto& r = st.rigid_plate();
+    if (!(r.mass_per_area() > 0)) cf.fail("structure.rigid_plate.mass_per_area", "must be positive");
+    if (!(r.stiffness() >= 0)) cf.fail("structure.rigid_plate.stiffness", "must be >= 0");
+    if (!(r.damping() >= 0)) cf.fail("structure.rigid_plate.damping", "must be >= 0");
+    if (!std::isfinite(r.back_pressure())) cf.fail("structure.rigid_plate.back_pressure", "must be finite");
+    if (!(st.safety() > 0 && st.safety() <= 1)) cf.fail("structure.safety", "safety factor must lie in (0, 1]");
+    RigidPlateModel m{r.mass_per_area(), r.stiffness(), r.damping(), r.back_pressure(), 0};
+    // A spring–mass oscillator of period 2π sqrt(m/k) needs steps well below it; without a spring any step.
+    m.dt = m.stiffness > 0 ? st.safety() * 0.1 * std::sqrt(m.mass_per_area / m.stiffness) : 1e300;
+    if (st.has_dt()) {
+        if (!(st.dt() > 0)) cf.fail("structure.dt", "time step must be positive");
+        m.dt = st.dt();
+    }
+    return m;
+}
+
+void check_structure(const CaseFile& cf) {
+    const auto& st = cf.get().structure();
+    if (st.has_command()) {
+        if (st.command().find_first_not_of(" \t") == std::string::npos)
+            cf.fail("structure.command", "the command is empty");
+        if (!has_fluid(cf)) cf.fail("structure.command", "another structure solver needs a fluid to couple with");
+        check_face(cf, st.front(), "structure.front");
+        return;
+    }
+    if (st.has_rigid_plate()) {
+        make_rigid_plate(cf);
+        return;
+    }
+    make_structure(cf);
+}
+
 StructureModel make_structure(const CaseFile& cf) {
     const auto& c = cf.get();
     if (!c.has_structure()) cf.fail("structure", "the case has no structure");
     const auto& st = c.structure();
+    if (st.has_rigid_plate())
+        cf.fail("structure.rigid_plate", "a rigid plate is solved by undex-rigid, not undex-solid");
+    if (st.has_command())
+        cf.fail("structure.command", "the structure is solved by '" + st.command() + "', not undex-solid");
     const bool two_d = c.geometry() == cfg::PLANAR_2D || c.geometry() == cfg::AXISYMMETRIC_2D;
     const bool axi = c.geometry() == cfg::AXISYMMETRIC_2D;
     if (!two_d && c.geometry() != cfg::PLANAR_1D)
@@ -257,6 +314,9 @@ StructureModel make_structure(const CaseFile& cf) {
         model.layout = layered_plate(x_min, span, nx, thickness, rows);
         model.plate = std::make_unique<Plate2D>(model.layout.mesh, per_layer,
                                                 axi ? Plane::Axisymmetric : Plane::Strain, st.hourglass());
+        if (st.front().type() == cfg::SolidFace::FLUID)
+            cf.fail("structure.front.type", "coupling a 2D plate to a fluid is not available yet; 1D columns "
+                                            "(PLANAR_1D) couple");
         apply_plate_conditions(st, model);
         stable = model.plate->stable_dt();
     } else {
@@ -270,6 +330,7 @@ StructureModel make_structure(const CaseFile& cf) {
                 model.column->set_pressure(side, fluid::pressure_history(f.pressure()));
         }
         stable = model.column->stable_dt();
+        model.wet = st.front().type() == cfg::SolidFace::FLUID;
     }
     model.dt = st.safety() * stable;
     if (st.has_dt()) {

@@ -25,7 +25,18 @@ struct StructureModel {
     std::vector<std::string> layers; // material name of each layer
     double dt = 0;                   // the time step: the forced one, or safety × the stable one
     int threads = 0;                 // structure.threads
+    bool wet = false;                // the front face is coupled to a fluid
 };
+
+// A rigid plate per unit area (undex-rigid): m du/dt = p_I − back_pressure − k u − c du/dt.
+struct RigidPlateModel {
+    double mass_per_area = 0, stiffness = 0, damping = 0, back_pressure = 0;
+    double dt = 0; // the step it offers
+};
+RigidPlateModel make_rigid_plate(const CaseFile& c);
+
+// Checks the structure part of a case, whichever solver it is for (undex-solid, undex-rigid or a command).
+void check_structure(const CaseFile& c);
 
 // Checks every structure part of the case and builds the column or plate; throws CaseError naming the field
 // and line (a material without a required constant, an element of zero or negative size, a layer thinner than
