@@ -56,6 +56,7 @@ Channel::Channel(const std::string& endpoint, Role role, std::string peer, int t
       peer_(std::move(peer)), timeout_ms_(timeout_ms) {
     // Messages still queued when the socket closes (the last Stop) get a moment to leave.
     socket_.set(zmq::sockopt::linger, 2000);
+    socket_.set(zmq::sockopt::sndtimeo, timeout_ms_);
     const std::string monitor = "inproc://monitor";
     if (zmq_socket_monitor(socket_.handle(), monitor.c_str(),
                            ZMQ_EVENT_CONNECTED | ZMQ_EVENT_ACCEPTED | ZMQ_EVENT_DISCONNECTED) != 0)
@@ -80,6 +81,11 @@ Channel::Channel(const std::string& endpoint, Role role, std::string peer, int t
     }
 }
 
+void Channel::set_timeout(int timeout_ms) {
+    timeout_ms_ = timeout_ms;
+    socket_.set(zmq::sockopt::sndtimeo, timeout_ms_);
+}
+
 Channel::~Channel() {
     socket_.close();
     if (!ipc_path_.empty()) std::filesystem::remove(ipc_path_);
@@ -88,12 +94,19 @@ Channel::~Channel() {
 void Channel::send(Envelope& e) {
     e.set_protocol(protocol_version);
     const std::string bytes = e.SerializeAsString();
+    // A peer that is gone leaves nothing to take the message: the send gives up after the timeout.
+    if (e.has_error()) socket_.set(zmq::sockopt::sndtimeo, 500); // a last word, not worth a long wait
+    bool sent = false;
     try {
-        socket_.send(zmq::buffer(bytes), zmq::send_flags::none);
+        sent = socket_.send(zmq::buffer(bytes), zmq::send_flags::none).has_value();
     } catch (const zmq::error_t& err) {
         throw CouplingError("cannot send " + body_name(e.body_case()) + " to " + peer_ + " at step " +
                             std::to_string(e.step()) + ": " + err.what());
     }
+    if (e.has_error()) socket_.set(zmq::sockopt::sndtimeo, timeout_ms_);
+    if (!sent)
+        throw CouplingError("cannot send " + body_name(e.body_case()) + " to " + peer_ + " at step " +
+                            std::to_string(e.step()) + ": nobody took it within the timeout (the peer is gone)");
 }
 
 // Reads one monitor event: its number (ZMQ_EVENT_*).

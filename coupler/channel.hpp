@@ -37,7 +37,8 @@ class Channel {
     const std::string& peer() const { return peer_; }
     // The endpoint as bound or connected (a tcp://HOST:* binding shows its port here).
     const std::string& endpoint() const { return endpoint_; }
-    void set_timeout(int timeout_ms) { timeout_ms_ = timeout_ms; }
+    // The longest wait for a message, and for the peer to take one.
+    void set_timeout(int timeout_ms);
 
   private:
     zmq::context_t context_;

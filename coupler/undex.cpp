@@ -251,7 +251,8 @@ int run_coupled(const Args& a, const undex::CaseFile& c, const std::filesystem::
     // notice (it writes its last output), then is stopped.
     bool open[2] = {true, true};
     std::chrono::steady_clock::time_point failed_at{};
-    bool any_failed = false, stopped = false;
+    bool any_failed = false;
+    int stopped = 0; // 1: SIGTERM sent, 2: SIGKILL sent
     while (open[0] || open[1] || !children[0].ended || !children[1].ended) {
         pollfd fds[2];
         int n = 0, which[2];
@@ -265,14 +266,17 @@ int run_coupled(const Args& a, const undex::CaseFile& c, const std::filesystem::
         for (auto& ch : children)
             if (reap(ch, false) && ch.status != 0 && !any_failed)
                 any_failed = true, failed_at = std::chrono::steady_clock::now();
-        if (any_failed && !stopped &&
-            std::chrono::steady_clock::now() - failed_at > std::chrono::seconds(5)) {
+        // A side that is still running 5 s after the other failed is stopped (SIGTERM, and SIGKILL 3 s later
+        // for one that does not react, e.g. a stopped process).
+        const auto since = std::chrono::steady_clock::now() - failed_at;
+        if (any_failed && stopped < 2 && since > std::chrono::seconds(stopped == 0 ? 5 : 8)) {
             for (auto& ch : children)
                 if (!ch.ended) {
-                    std::cout << "undex: stopping " << ch.name << " (the other side failed)" << std::endl;
-                    kill(ch.pid, SIGTERM);
+                    if (stopped == 0) std::cout << "undex: stopping " << ch.name << " (the other side failed)" << std::endl;
+                    kill(ch.pid, stopped == 0 ? SIGTERM : SIGKILL);
+                    kill(ch.pid, SIGCONT);
                 }
-            stopped = true;
+            ++stopped;
         }
     }
     int code = 0;

@@ -1,0 +1,103 @@
+#!/usr/bin/python3
+"""A misbehaving coupling peer for the socket-level failure tests (tests/coupling/failures.py).
+
+    bad_peer.py --role structure|fluid --mode MODE --couple ENDPOINT [--proto-dir DIR] [--at STEP]
+
+As the structure it connects and speaks the protocol correctly up to step --at (default 3), then:
+    garbage        sends bytes that are no coupling Envelope
+    wrong-type     sends an Answer where an Offer is due
+    wrong-version  sends its Offer with protocol version 99
+    silent         stops answering (sleeps)
+As the fluid it binds, answers the Hello, and grants steps with a resting fluid state up to --at, then
+misbehaves the same way (garbage, a Welcome where a Grant is due, version 99, silence).
+"""
+import argparse
+import sys
+import time
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--role", choices=["structure", "fluid"], default="structure")
+    ap.add_argument("--mode", choices=["garbage", "wrong-type", "wrong-version", "silent"], required=True)
+    ap.add_argument("--at", type=int, default=3)
+    ap.add_argument("--proto-dir")
+    ap.add_argument("--couple", required=True)
+    a = ap.parse_args()
+    if a.proto_dir:
+        sys.path.insert(0, a.proto_dir)
+    import zmq
+    import coupling_pb2 as pb
+
+    ctx = zmq.Context()
+    s = ctx.socket(zmq.PAIR)
+    s.setsockopt(zmq.LINGER, 1000)
+
+    def send(step, version=1, **body):
+        e = pb.Envelope(protocol=version, step=step)
+        for k, v in body.items():
+            getattr(e, k).CopyFrom(v)
+        s.send(e.SerializeToString())
+
+    def recv():
+        if not s.poll(10000):
+            raise SystemExit("bad_peer: the other side went silent")
+        e = pb.Envelope()
+        e.ParseFromString(s.recv())
+        return e
+
+    def misbehave(step, proper):
+        if a.mode == "garbage":
+            s.send(b"\xff\x00 this is not a coupling envelope \x13\x37")
+        elif a.mode == "wrong-version":
+            send(step, version=99, **proper)
+        elif a.mode == "silent":
+            time.sleep(60)
+            return
+        time.sleep(2)  # let the frame leave before the socket closes
+
+    if a.role == "structure":
+        s.connect(a.couple)
+        send(0, hello=pb.Hello(solver="bad_peer.py", version="1", dimension=1, alpha=0, x=[0.0], y=[0.0],
+                               normal_x=[1.0], normal_y=[0.0], area=[1.0]))
+        recv()  # Welcome
+        for step in range(1, 1000000):
+            offer = pb.Offer(dt=1.0, x=[0.0], y=[0.0], velocity=[0.0])
+            if step == a.at:
+                if a.mode == "wrong-type":
+                    send(step, answer=pb.Answer(p_I=[1e5], u_I=[0.0], x=[0.0], y=[0.0]))
+                    time.sleep(2)
+                else:
+                    misbehave(step, {"offer": offer})
+                return 0
+            send(step, offer=offer)
+            g = recv()
+            if g.WhichOneof("body") != "grant":
+                return 0
+            send(step, answer=pb.Answer(p_I=[g.grant.p_L[0]], u_I=[0.0], x=[0.0], y=[0.0]))
+    else:
+        s.bind(a.couple)
+        recv()  # Hello
+        send(0, welcome=pb.Welcome(solver="bad_peer.py", version="1", end_time=1.0))
+        t = 0.0
+        for step in range(1, 1000000):
+            offer = recv()
+            if offer.WhichOneof("body") != "offer":
+                return 0
+            dt = offer.offer.dt
+            grant = pb.Grant(dt=dt, time=t, p_L=[1e5], u_L=[0.0], Z_L=[1.5e6], geometric=[0.0], p_floor=2338.0)
+            if step == a.at:
+                if a.mode == "wrong-type":
+                    send(step, welcome=pb.Welcome(solver="bad_peer.py", version="1", end_time=1.0))
+                    time.sleep(2)
+                else:
+                    misbehave(step, {"grant": grant})
+                return 0
+            send(step, grant=grant)
+            recv()  # Answer
+            t += dt
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

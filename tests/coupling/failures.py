@@ -1,0 +1,178 @@
+#!/usr/bin/python3
+"""Socket-level failure tests of the coupling (issue: a peer that dies, hangs, or sends a malformed,
+out-of-order or wrong-version message ends the run on both sides with a clear message naming the peer, the
+step and the cause, within the timeout, and both sides keep their last complete output readable).
+
+Real processes over real sockets: undex run with a misbehaving structure (tests/coupling/bad_peer.py as
+structure.command), undex-solid against a misbehaving fluid, SIGKILL of either side mid-run, and an ipc://
+endpoint already in use. The coupling timeout is 2 s here; every failure must end within it plus 5 s of
+start-up and launcher grace.
+
+    failures.py BIN_DIR CASES_DIR PYTHON_DIR WORK_DIR
+"""
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+
+import h5py
+
+BIN, CASES, PYDIR, WORK = [os.path.abspath(p) for p in sys.argv[1:5]]
+HERE = os.path.dirname(os.path.abspath(__file__))
+BAD = os.path.join(HERE, "bad_peer.py")
+TIMEOUT = 2.0
+failures, passed = [], 0
+
+
+def check(ok, what, detail=""):
+    global passed
+    if ok:
+        passed += 1
+        print(f"ok: {what}")
+    else:
+        failures.append(f"{what}\n{detail}")
+        print(f"FAIL: {what}\n{detail}")
+
+
+def status_of(h5):
+    """The status attribute of an output file, which must open (the last complete output stays readable)."""
+    try:
+        with h5py.File(h5, "r") as f:
+            s = f.attrs["status"]
+            return s.decode() if isinstance(s, bytes) else str(s)
+    except Exception as e:  # noqa: BLE001 - any failure to read is the finding
+        return f"unreadable: {e}"
+
+
+def make_case(name, source, structure=None, extra=""):
+    out = os.path.join(WORK, name)
+    os.makedirs(out, exist_ok=True)
+    text = open(os.path.join(CASES, source)).read()
+    if structure is not None:
+        start = text.index("\nstructure {")
+        stop = text.index("\n}\n", start) + 3
+        text = text[:start] + "\nstructure { " + structure + " }\n" + text[stop:]
+    text = re.sub(r"^output\s*\{.*\}$", f'output {{ interval: 1e-4 progress_seconds: 30 directory: "{out}" }}', text,
+                  flags=re.M)
+    text += f"\ncoupling {{ timeout: {TIMEOUT} handshake_timeout: 20 }}\n" + extra
+    path = os.path.join(out, "case.case")
+    open(path, "w").write(text)
+    return out, path
+
+
+# 1. A structure that misbehaves at step 3: the fluid names it, the step and the cause, and exits 3.
+expected = {
+    "garbage": r"the structure solver sent a malformed message at step 3",
+    "wrong-type": r"the structure solver sent Answer of step 3 where Offer of step 3 was expected",
+    "wrong-version": r"the structure solver speaks protocol version 99, this side version 1 at step 3",
+    "silent": r"the structure solver did not answer within 2(\.0+)? s at step 3 \(waiting for Offer\)",
+}
+for mode, pattern in expected.items():
+    cmd = f"/usr/bin/python3 {BAD} --role structure --mode {mode} --proto-dir {PYDIR}"
+    out, path = make_case(f"structure_{mode}", "taylor_plate_1d.case",
+                          f'command: "{cmd}" front {{ type: FLUID }} back {{ type: FREE }}')
+    t0 = time.monotonic()
+    r = subprocess.run([os.path.join(BIN, "undex"), "run", path], capture_output=True, text=True, timeout=120)
+    took = time.monotonic() - t0
+    log = open(os.path.join(out, "fluid.log")).read()
+    st = status_of(os.path.join(out, "fluid.h5"))
+    check(r.returncode != 0 and re.search(pattern, log) is not None and st.startswith("failed: coupling: ")
+          and took < TIMEOUT + 8,
+          f"structure sends {mode}: fluid stops naming peer, step and cause in {took:.1f} s; fluid.h5 '{st[:60]}...'",
+          r.stdout[-1500:])
+
+# 2. A fluid that misbehaves at step 3: undex-solid names it, the step and the cause, exits 3, keeps solid.h5.
+expected_fluid = {
+    "garbage": r"the fluid solver sent a malformed message at step 3",
+    "wrong-type": r"the fluid solver sent Welcome of step 3 where Grant of step 3 was expected",
+    "wrong-version": r"the fluid solver speaks protocol version 99, this side version 1 at step 3",
+    "silent": r"the fluid solver did not answer within 2(\.0+)? s at step 3 \(waiting for Grant\)",
+}
+for mode, pattern in expected_fluid.items():
+    out, path = make_case(f"fluid_{mode}", "sandwich_shock_1d.case")
+    endpoint = f"ipc://{WORK}/fluid_{mode}.ipc"
+    peer = subprocess.Popen(["/usr/bin/python3", BAD, "--role", "fluid", "--mode", mode, "--proto-dir", PYDIR,
+                             "--couple", endpoint])
+    t0 = time.monotonic()
+    r = subprocess.run([os.path.join(BIN, "undex-solid"), path, "--couple", endpoint], capture_output=True,
+                       text=True, timeout=120)
+    took = time.monotonic() - t0
+    peer.kill()
+    peer.wait()
+    st = status_of(os.path.join(out, "solid.h5"))
+    check(r.returncode == 3 and re.search(pattern, r.stdout + r.stderr) is not None and
+          st.startswith("failed: coupling: ") and took < TIMEOUT + 8,
+          f"fluid sends {mode}: undex-solid stops naming peer, step and cause in {took:.1f} s; solid.h5 '{st[:60]}...'",
+          r.stdout[-1000:] + r.stderr[-1000:])
+
+
+# 3. SIGKILL of either side mid-run: the other notices the closed connection at once, names the peer and the
+# step, writes its last good state; the killed side's output stays readable.
+def kill_mid_run(victim, source, name):
+    out, path = make_case(name, source)
+    launcher = subprocess.Popen([os.path.join(BIN, "undex"), "run", path], stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True)
+    # Wait until both sides step (the fluid's first progress line), then kill the victim.
+    pid = None
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and pid is None:
+        time.sleep(0.2)
+        log = os.path.join(out, "fluid.log")
+        if os.path.exists(log) and "coupled to" in open(log).read():
+            time.sleep(1.0)  # well into the stepping; the runs take 10 s or more
+            p = subprocess.run(["pgrep", "-f", f"{victim} {path}"], capture_output=True, text=True)
+            pid = int(p.stdout.split()[0]) if p.stdout.split() else None
+    if pid is None:
+        launcher.kill()
+        check(False, f"SIGKILL {victim}: the run never started", launcher.communicate()[0][-1500:])
+        return
+    time.sleep(0.5)
+    t0 = time.monotonic()
+    os.kill(pid, signal.SIGKILL)
+    text = launcher.communicate(timeout=120)[0]
+    took = time.monotonic() - t0
+    other = "solid" if victim == "undex-fluid" else "fluid"
+    peer = "the fluid solver" if victim == "undex-fluid" else "the structure solver"
+    other_log = open(os.path.join(out, f"{other}.log")).read()
+    ok_msg = re.search(peer + r" closed the connection at step \d+ .*its process ended or was killed", other_log)
+    st_other = status_of(os.path.join(out, f"{other}.h5"))
+    st_victim = status_of(os.path.join(out, ("fluid" if other == "solid" else "solid") + ".h5"))
+    check(launcher.returncode != 0 and ok_msg is not None and st_other.startswith("failed: coupling: ")
+          and not st_victim.startswith("unreadable") and took < TIMEOUT + 8,
+          f"SIGKILL {victim} mid-run: {other} stops in {took:.1f} s naming the peer and step; "
+          f"{other}.h5 '{st_other[:40]}...', killed side's file '{st_victim[:20]}'",
+          text[-1500:] + other_log[-800:])
+
+
+kill_mid_run("undex-rigid", "taylor_plate_1d.case", "kill_structure")
+kill_mid_run("undex-fluid", "sandwich_shock_1d.case", "kill_fluid")
+
+# 4. An endpoint already in use: the second fluid refuses it and the first keeps it.
+out, path = make_case("endpoint", "taylor_plate_1d.case")
+endpoint = f"ipc://{WORK}/busy.ipc"
+first = subprocess.Popen([os.path.join(BIN, "undex-fluid"), path, "--couple", endpoint], stdout=subprocess.PIPE,
+                         stderr=subprocess.STDOUT, text=True)
+time.sleep(1.0)
+r = subprocess.run([os.path.join(BIN, "undex-fluid"), path, "--couple", endpoint], capture_output=True, text=True,
+                   timeout=30)
+alive = first.poll() is None
+first.send_signal(signal.SIGTERM)
+first.communicate()
+check(r.returncode == 3 and f"endpoint {endpoint} is already in use by another process" in r.stderr and alive,
+      "endpoint already in use: refused with the endpoint named, the first run unharmed", r.stdout + r.stderr)
+import socket  # noqa: E402
+
+holder = socket.socket()
+holder.bind(("127.0.0.1", 0))
+holder.listen()
+busy = f"tcp://127.0.0.1:{holder.getsockname()[1]}"
+r = subprocess.run([os.path.join(BIN, "undex"), "run", path, "--endpoint", busy], capture_output=True,
+                   text=True, timeout=60)
+holder.close()
+check(r.returncode != 0 and f"cannot bind endpoint {busy}" in r.stdout,
+      "undex run on a tcp port it cannot bind: both sides stop, the cause named", r.stdout[-1500:])
+
+print(f"{passed} passed, {len(failures)} failed")
+sys.exit(1 if failures else 0)
