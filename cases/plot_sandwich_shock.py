@@ -9,7 +9,7 @@ One run (after `undex run cases/sandwich_shock_1d.case`):
 
 The sweep (the paper's figure: core plastic compression strain against the impulse I0 = 2 p_m θ):
     plot_sandwich_shock.py --sweep OUT_DIR [--bin build/bin] [--case cases/sandwich_shock_1d.case]
-                           [--p-m 5e6,1e7,2e7] [--end-time 2.5e-3] [--jobs 2]
+                           [--p-m 5e6,1e7,2e7] [--end-time 2.5e-3] [--jobs 2] [--cells N]
   -> runs the case for each p_m, unsupported (the case as it is: back face under the ambient air pressure)
      and supported (back face FIXED), two runs at a time, and writes OUT_DIR/core_strain.csv (support, p_m,
      I0, core strain, status) and OUT_DIR/core_strain.png.
@@ -81,8 +81,10 @@ def plot_run(run_dir):
     print(f"plot: {out}")
 
 
-def variant(case_text, p_m, supported, end_time, out):
+def variant(case_text, p_m, supported, end_time, out, cells=None):
     text = re.sub(r"p_peak:\s*[0-9.eE+-]+", f"p_peak: {p_m!r}", case_text, count=1)
+    if cells:
+        text = re.sub(r"cells_x:\s*\d+", f"cells_x: {cells}", text, count=1)
     if supported:
         text, n = re.subn(r"back\s*\{\s*type:\s*PRESSURE\s*pressure\s*\{[^}]*\}\s*\}", "back { type: FIXED }", text)
         if n != 1:
@@ -103,7 +105,7 @@ def sweep(a):
             out = os.path.abspath(os.path.join(a.sweep, name))
             os.makedirs(out, exist_ok=True)
             path = os.path.join(out, "case.case")
-            open(path, "w").write(variant(case_text, p_m, supported, a.end_time, out))
+            open(path, "w").write(variant(case_text, p_m, supported, a.end_time, out, a.cells))
             runs.append((supported, p_m, out, path))
 
     def run(r):
@@ -152,6 +154,7 @@ def main():
     ap.add_argument("--p-m", default="5e6,1e7,2e7", help="peak pressures p_m, comma-separated")
     ap.add_argument("--end-time", type=float, default=2.5e-3)
     ap.add_argument("--jobs", type=int, default=2, help="runs at a time")
+    ap.add_argument("--cells", type=int, help="water cells instead of the case's")
     a = ap.parse_args()
     if a.sweep:
         sweep(a)

@@ -119,6 +119,17 @@ int read_event(zmq::socket_t& monitor) {
     return event;
 }
 
+void Channel::send_version(Envelope& e, std::uint32_t version) {
+    e.set_protocol(version);
+    const std::string bytes = e.SerializeAsString();
+    send_raw(bytes);
+}
+
+void Channel::send_raw(const std::string& bytes) {
+    if (!socket_.send(zmq::buffer(bytes), zmq::send_flags::none))
+        throw CouplingError("cannot send to " + peer_ + ": nobody took the message within the timeout");
+}
+
 Envelope Channel::receive(std::int64_t step, Envelope::BodyCase expected) {
     const std::string at = " at step " + std::to_string(step);
     auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms_);

@@ -30,6 +30,9 @@ class Channel {
 
     // Sends e with this side's protocol version.
     void send(Envelope& e);
+    // For the conformance check only: e with another protocol version, and bytes that are no Envelope.
+    void send_version(Envelope& e, std::uint32_t version);
+    void send_raw(const std::string& bytes);
     // Waits for the message of the given step and body (or a Stop), skipping heartbeats, each of which
     // renews the timeout. Throws on a timeout, a malformed frame, another protocol version, an Error from the
     // peer, or a message of another step or kind.

@@ -8,6 +8,7 @@
 //   undex options                              list the named choices of a case file
 #include "case.pb.h"
 #include "case_file.hpp"
+#include "conform.hpp"
 #include "h5.hpp"
 #include "output.hpp"
 #include "setup.hpp"
@@ -40,7 +41,8 @@ const char* usage = "usage:\n"
                     "  undex run CASE [--set key=value]... [--tcp | --endpoint ENDPOINT]\n"
                     "  undex sample DIR --time T --line \"x0,y0 x1,y1\" --points N [--fields rho,u,v,p]\n"
                     "  undex gauges DIR [--name NAME]\n"
-                    "  undex options\n";
+                    "  undex options\n"
+                    "  undex conform [--timeout S] -- COMMAND...   check a structure solver against the protocol\n";
 
 struct Args {
     std::vector<std::string> positional;
@@ -451,6 +453,15 @@ int main(int argc, char** argv) {
     }
     const std::string cmd = argv[1];
     try {
+        if (cmd == "conform") { // undex conform [--timeout S] -- COMMAND...
+            double timeout = 10;
+            int k = 2;
+            for (; k < argc && std::strcmp(argv[k], "--") != 0; ++k)
+                if (std::strcmp(argv[k], "--timeout") == 0 && k + 1 < argc) timeout = std::stod(argv[++k]);
+                else throw std::invalid_argument(std::string("conform: unexpected '") + argv[k] + "'");
+            std::vector<std::string> command(argv + std::min(k + 1, argc), argv + argc);
+            return std::min(undex::coupling::conform(command, timeout), 100);
+        }
         const Args a = parse(argc, argv, 2);
         if (cmd == "check") return check(a);
         if (cmd == "run") return run(a);

@@ -25,11 +25,20 @@ struct CavitationModel {
         a_sat = mixture_sound_speed(p_cav);
     }
 
+    // (p̄/p̄_cav)^e for a mixture pressure 0 < p ≤ p_cav: p̄/p̄_cav = 1 + x with |x| ≤ p_cav/p̄_cav (≈ 7e-6 for
+    // water), so (1 + x)^e = exp(e ln(1 + x)) by three terms of each series, exact to rounding (the next
+    // terms are below 1e-20), without a pow in the hot loops of cavitating cells.
+    double liquid_ratio(double p, double e) const {
+        const double x = (p - p_cav) / pbar_cav;
+        if (!(std::abs(x) < 1e-4)) return std::pow(1.0 + x, e); // far from p_cav (not a mixture): exact
+        const double y = e * x * (1.0 - x * (0.5 - x / 3.0));
+        return 1.0 + y * (1.0 + y * (0.5 + y / 6.0));
+    }
+
     // ρ(p) = (k ρg_cav + ρl_cav) / [ (p̄/p̄_cav)^(−1/γw) + k (p/p_cav)^(−1/γg) ]
     double mixture_density(double p) const {
-        const double pbar = p + B - A;
         return (k * rho_g_cav + rho_l_cav) /
-               (std::pow(pbar / pbar_cav, -1.0 / gamma_w) + k * std::pow(p / p_cav, -1.0 / gamma_g));
+               (liquid_ratio(p, -1.0 / gamma_w) + k * std::pow(p / p_cav, -1.0 / gamma_g));
     }
 
     // Pressure of a mixture of density rho < rho_sat: Newton in s = ln p, safeguarded by a bracket.
@@ -37,15 +46,15 @@ struct CavitationModel {
         double lo = -60.0, hi = std::log(p_cav); // ln p bracket (p from ~1e-26 Pa to p_cav)
         double s = std::log(p_cav * std::pow(rho / rho_sat, gamma_g)); // vapour-dominated guess
         if (!(s > lo && s < hi)) s = 0.5 * (lo + hi);
+        const double ln_p_cav = std::log(p_cav);
         for (int it = 0; it < 100; ++it) {
             const double p = std::exp(s);
-            const double f = mixture_density(p) - rho;
-            if (f > 0) hi = s; else lo = s;
-            // dρ/ds = p dρ/dp = ρ² p / (ρ_m a²)-like; use the analytic derivative of the denominator.
-            const double pbar = p + B - A;
-            const double d1 = std::pow(pbar / pbar_cav, -1.0 / gamma_w);
-            const double d2 = k * std::pow(p / p_cav, -1.0 / gamma_g);
+            const double d1 = liquid_ratio(p, -1.0 / gamma_w);
+            const double d2 = k * std::exp(-(s - ln_p_cav) / gamma_g); // k (p/p_cav)^(−1/γg)
             const double den = d1 + d2;
+            const double f = (k * rho_g_cav + rho_l_cav) / den - rho;
+            if (f > 0) hi = s; else lo = s;
+            const double pbar = p + B - A;
             const double dden_ds = -(1.0 / gamma_w) * d1 * p / pbar - (1.0 / gamma_g) * d2;
             const double drho_ds = -(k * rho_g_cav + rho_l_cav) * dden_ds / (den * den);
             double s_new = s - f / drho_ds;
@@ -59,10 +68,12 @@ struct CavitationModel {
     // Wood's mixture sound speed: a⁻² = ρm [α/(ρg ag²) + (1−α)/(ρl al²)].
     double mixture_sound_speed(double p) const {
         const double pbar = p + B - A;
-        const double ratio = k * std::pow(pbar / pbar_cav, 1.0 / gamma_w) * std::pow(p / p_cav, -1.0 / gamma_g);
+        const double liquid = liquid_ratio(p, 1.0 / gamma_w);   // (p̄/p̄_cav)^(1/γw)
+        const double vapour = std::pow(p / p_cav, 1.0 / gamma_g); // (p/p_cav)^(1/γg)
+        const double ratio = k * liquid / vapour;
         const double alpha = ratio / (1.0 + ratio);
-        const double rho_g = rho_g_cav * std::pow(p / p_cav, 1.0 / gamma_g);
-        const double rho_l = rho_l_cav * std::pow(pbar / pbar_cav, 1.0 / gamma_w);
+        const double rho_g = rho_g_cav * vapour;
+        const double rho_l = rho_l_cav * liquid;
         const double rho_m = alpha * rho_g + (1.0 - alpha) * rho_l;
         const double inv_a2 = rho_m * (alpha / (gamma_g * p) + (1.0 - alpha) / (gamma_w * pbar));
         return 1.0 / std::sqrt(inv_a2);

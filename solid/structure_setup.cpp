@@ -139,7 +139,7 @@ RigidPlateModel make_rigid_plate(const CaseFile& cf) {
     if (st.materials_size()) cf.fail("structure.materials", "a rigid plate has no materials");
     if (st.layers_size()) cf.fail("structure.layers", "a rigid plate has no layers");
     if (st.has_plate()) cf.fail("structure.plate", "a rigid plate has no 'plate' mesh");
-    if (st.gauges_size()) cf.fail("structure.gauges", "a rigid plate has no gauges (its history is rigid.h5)");
+    if (st.gauges_size()) cf.fail("structure.gauges", "a rigid plate has no gauges (its history is solid.h5 /gauges/plate)");
     check_face(cf, st.front(), "structure.front");
     if (st.front().type() != cfg::SolidFace::FLUID)
         cf.fail("structure.front.type", "a rigid plate is driven by the fluid: its front face is FLUID");

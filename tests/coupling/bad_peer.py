@@ -8,6 +8,8 @@ As the structure it connects and speaks the protocol correctly up to step --at (
     wrong-type     sends an Answer where an Offer is due
     wrong-version  sends its Offer with protocol version 99
     silent         stops answering (sleeps)
+    wrong-physics  (structure only) answers every step, but moves against the pressure and ignores the
+                   interface condition: p_I = p_L, u_I = -0.01 m/s (for `undex conform` to catch)
 As the fluid it binds, answers the Hello, and grants steps with a resting fluid state up to --at, then
 misbehaves the same way (garbage, a Welcome where a Grant is due, version 99, silence).
 """
@@ -19,7 +21,7 @@ import time
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--role", choices=["structure", "fluid"], default="structure")
-    ap.add_argument("--mode", choices=["garbage", "wrong-type", "wrong-version", "silent"], required=True)
+    ap.add_argument("--mode", choices=["garbage", "wrong-type", "wrong-version", "silent", "wrong-physics"], required=True)
     ap.add_argument("--at", type=int, default=3)
     ap.add_argument("--proto-dir")
     ap.add_argument("--couple", required=True)
@@ -63,6 +65,13 @@ def main():
         recv()  # Welcome
         for step in range(1, 1000000):
             offer = pb.Offer(dt=1.0, x=[0.0], y=[0.0], velocity=[0.0])
+            if a.mode == "wrong-physics":
+                send(step, offer=offer)
+                g = recv()
+                if g.WhichOneof("body") != "grant":
+                    return 0
+                send(step, answer=pb.Answer(p_I=[g.grant.p_L[0]], u_I=[-0.01], x=[0.0], y=[0.0]))
+                continue
             if step == a.at:
                 if a.mode == "wrong-type":
                     send(step, answer=pb.Answer(p_I=[1e5], u_I=[0.0], x=[0.0], y=[0.0]))

@@ -49,7 +49,10 @@ def main():
             if not sock.poll(int(timeout * 1000)):
                 raise RuntimeError(f"the fluid solver did not answer within {timeout} s at step {step}")
             e = pb.Envelope()
-            e.ParseFromString(sock.recv())
+            try:
+                e.ParseFromString(sock.recv())
+            except Exception as err:  # protobuf's DecodeError
+                raise RuntimeError(f"the fluid solver sent a malformed message at step {step} ({err})") from None
             if e.protocol != version:
                 raise RuntimeError(f"the fluid solver speaks protocol {e.protocol}, this side {version}")
             body = e.WhichOneof("body")

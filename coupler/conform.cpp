@@ -1,0 +1,294 @@
+// undex conform -- COMMAND...: checks a structure solver against the coupling protocol (docs/protocol.md).
+// It plays the fluid side: for each check it binds a fresh ipc:// endpoint, starts COMMAND with
+// " --couple ENDPOINT" appended (its output goes to a log file), and watches what arrives. Each check prints
+// "ok:" or "FAIL:" with what was wrong; the exit status is the number of failed checks (0: conforming).
+#include "conform.hpp"
+
+#include "channel.hpp"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+namespace undex::coupling {
+
+namespace {
+
+std::string shell_quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s)
+        q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+// The solver under test: one process per check.
+class Subject {
+  public:
+    Subject(const std::vector<std::string>& command, const std::string& endpoint, const std::string& log) {
+        std::string line = "exec";
+        for (const auto& a : command)
+            line += " " + shell_quote(a);
+        line += " --couple " + shell_quote(endpoint);
+        pid_ = fork();
+        if (pid_ == 0) {
+            FILE* f = std::fopen(log.c_str(), "w");
+            if (f) {
+                dup2(fileno(f), 1);
+                dup2(fileno(f), 2);
+            }
+            execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
+            _exit(127);
+        }
+    }
+    ~Subject() {
+        if (!ended_) {
+            kill(pid_, SIGKILL);
+            waitpid(pid_, nullptr, 0);
+        }
+    }
+    // The exit status if the process ends within seconds, else -1 (then it is killed).
+    int wait(double seconds) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        while (std::chrono::steady_clock::now() < until) {
+            int st = 0;
+            if (waitpid(pid_, &st, WNOHANG) == pid_) {
+                ended_ = true;
+                return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        return -1;
+    }
+
+  private:
+    pid_t pid_ = -1;
+    bool ended_ = false;
+};
+
+struct Report {
+    int failed = 0;
+    void check(bool ok, const std::string& what, const std::string& why = "") {
+        std::cout << (ok ? "ok: " : "FAIL: ") << what << (ok || why.empty() ? "" : ": " + why) << std::endl;
+        failed += !ok;
+    }
+};
+
+bool finite_all(const google::protobuf::RepeatedField<double>& r) {
+    for (double v : r)
+        if (!std::isfinite(v)) return false;
+    return true;
+}
+
+// The Hello's problems, or "".
+std::string hello_problems(const Envelope& e) {
+    std::ostringstream s;
+    if (!e.has_hello()) return "the first message is " + body_name(e.body_case()) + ", not Hello";
+    const auto& h = e.hello();
+    if (e.step() != 0) s << "Hello has step " << e.step() << " (must be 0); ";
+    if (h.solver().empty()) s << "empty solver name; ";
+    if (h.dimension() != 1 && h.dimension() != 2) s << "dimension " << h.dimension() << " (1 or 2); ";
+    if (h.alpha() < 0 || h.alpha() > 2) s << "alpha " << h.alpha() << " (0, 1 or 2); ";
+    const int n = h.x_size();
+    if (n == 0) s << "no interface nodes; ";
+    if (h.y_size() != n || h.normal_x_size() != n || h.normal_y_size() != n || h.area_size() != n)
+        s << "x, y, normal_x, normal_y, area differ in length; ";
+    else
+        for (int k = 0; k < n; ++k) {
+            if (std::abs(std::hypot(h.normal_x(k), h.normal_y(k)) - 1) > 1e-9) {
+                s << "normal of node " << k << " is not a unit vector; ";
+                break;
+            }
+            if (!(h.area(k) > 0) || !std::isfinite(h.area(k))) {
+                s << "area of node " << k << " is not positive and finite; ";
+                break;
+            }
+        }
+    if (!finite_all(h.x()) || !finite_all(h.y())) s << "non-finite positions; ";
+    return s.str();
+}
+
+Envelope welcome() {
+    Envelope w;
+    w.set_step(0);
+    w.mutable_welcome()->set_solver("undex conform");
+    w.mutable_welcome()->set_version("1");
+    w.mutable_welcome()->set_end_time(1.0);
+    return w;
+}
+
+// A Grant of step n for a resting fluid with p_L on every one of the nodes.
+Envelope grant(std::int64_t n, int nodes, double dt, double time, double p_L) {
+    Envelope g;
+    g.set_step(n);
+    auto* m = g.mutable_grant();
+    m->set_dt(dt);
+    m->set_time(time);
+    m->set_p_floor(2338);
+    for (int k = 0; k < nodes; ++k) {
+        m->add_p_l(p_L);
+        m->add_u_l(0);
+        m->add_z_l(1.5e6);
+        m->add_geometric(0);
+    }
+    return g;
+}
+
+} // namespace
+
+int conform(const std::vector<std::string>& command, double timeout) {
+    if (command.empty()) throw std::invalid_argument("conform needs a COMMAND after --");
+    const auto dir = std::filesystem::temp_directory_path() / ("undex-conform-" + std::to_string(getpid()));
+    std::filesystem::create_directories(dir);
+    const int ms = static_cast<int>(timeout * 1000);
+    Report r;
+    int session = 0;
+    auto endpoint = [&] { return "ipc://" + (dir / ("s" + std::to_string(++session) + ".ipc")).string(); };
+    auto log = [&] { return (dir / ("solver-" + std::to_string(session) + ".log")).string(); };
+    std::cout << "undex conform: checking '";
+    for (size_t k = 0; k < command.size(); ++k)
+        std::cout << (k ? " " : "") << command[k];
+    std::cout << " --couple ENDPOINT'; its output: " << dir.string() << "/solver-*.log" << std::endl;
+
+    // 1. A full run: handshake, 30 steps (the last 20 under a pressure pulse), Stop.
+    {
+        Channel c(endpoint(), Channel::Role::Bind, "the solver", ms);
+        Subject s(command, c.endpoint(), log());
+        Envelope h;
+        try {
+            h = c.receive(0, Envelope::kHello);
+        } catch (const CouplingError& e) {
+            r.check(false, "sends a Hello after connecting", e.what());
+            return r.failed + 1;
+        }
+        const std::string hp = hello_problems(h);
+        r.check(hp.empty(), "Hello: dimension, alpha, one position, unit normal and positive area per node", hp);
+        if (!hp.empty()) return r.failed;
+        const int n = h.hello().x_size();
+        Envelope w = welcome();
+        c.send(w);
+        double time = 0, u_last = 0;
+        std::string offer_problem, answer_problem, sign_problem;
+        int answer_problems = 0;
+        const int steps = 30;
+        try {
+            for (int step = 1; step <= steps; ++step) {
+                const Envelope o = c.receive(step, Envelope::kOffer);
+                if (o.has_stop()) {
+                    offer_problem = "it sent Stop at step " + std::to_string(step);
+                    break;
+                }
+                const auto& of = o.offer();
+                if (!(of.dt() > 0) || !std::isfinite(of.dt()))
+                    offer_problem += "step " + std::to_string(step) + ": dt_s not positive and finite; ";
+                if (of.x_size() != n || of.y_size() != n || of.velocity_size() != n)
+                    offer_problem += "step " + std::to_string(step) + ": not one x, y, velocity per node; ";
+                else if (!finite_all(of.x()) || !finite_all(of.velocity()))
+                    offer_problem += "step " + std::to_string(step) + ": non-finite values; ";
+                const double dt = std::min(of.dt() > 0 ? of.dt() : 1e-7, 1e-7);
+                const double p_L = step > 10 ? 2e6 : 1e5; // a 2 MPa pulse from step 11
+                Envelope g = grant(step, n, dt, time, p_L);
+                c.send(g);
+                const Envelope a = c.receive(step, Envelope::kAnswer);
+                if (a.has_stop()) {
+                    answer_problem = "it sent Stop instead of the Answer of step " + std::to_string(step);
+                    break;
+                }
+                const auto& an = a.answer();
+                if (an.p_i_size() != n || an.u_i_size() != n || an.x_size() != n || an.y_size() != n) {
+                    answer_problem += "step " + std::to_string(step) + ": not one p_I, u_I, x, y per node; ";
+                    continue;
+                }
+                for (int k = 0; k < n; ++k) {
+                    const double p = an.p_i(k), u = an.u_i(k);
+                    if (!std::isfinite(p) || !std::isfinite(u)) {
+                        answer_problem += "step " + std::to_string(step) + ": non-finite p_I or u_I; ";
+                        break;
+                    }
+                    if (p < 2338) answer_problem += "step " + std::to_string(step) + ": p_I below p_floor; ";
+                    // The interface condition p_I = p_L − Z (u_I − u_L) − geometric (u_L = geometric = 0).
+                    const double expect = p_L - 1.5e6 * u;
+                    if (p > 2338 * (1 + 1e-9) && std::abs(p - expect) > 1e-6 * std::max(std::abs(p_L), 1.5e6 * std::abs(u)) + 1e-3) {
+                        if (answer_problems++ == 0) {
+                            std::ostringstream m;
+                            m << "step " << step << ", node " << k << ": p_I = " << p
+                              << " Pa but p_L − Z_L (u_I − u_L) = " << expect << " Pa";
+                            answer_problem += m.str();
+                        }
+                        break;
+                    }
+                }
+                u_last = an.u_i(0);
+                time += dt;
+            }
+            if (!(u_last > 0))
+                sign_problem = "after 20 steps of 2 MPa on the wet face u_I = " + std::to_string(u_last) +
+                               " m/s: pressure must push the structure along n (from the fluid into it)";
+            r.check(offer_problem.empty(), "Offers: steps numbered 1, 2, ...; dt_s > 0; one value per node",
+                    offer_problem);
+            if (answer_problems > 1)
+                answer_problem += " (and in " + std::to_string(answer_problems - 1) + " more answers)";
+            r.check(answer_problem.empty(),
+                    "Answers: one finite p_I, u_I, x, y per node; p_I ≥ p_floor; p_I = p_L − Z_L (u_I − u_L) − geometric",
+                    answer_problem);
+            r.check(sign_problem.empty(), "sign convention: pressure pushes the structure along n", sign_problem);
+            // After the last step the solver offers the next one and gets Stop.
+            c.receive(steps + 1, Envelope::kOffer);
+            Envelope stop;
+            stop.set_step(steps + 1);
+            stop.mutable_stop()->set_reason("end of the conformance run");
+            c.send(stop);
+            const int code = s.wait(timeout);
+            r.check(code == 0, "ends with exit status 0 on Stop",
+                    code < 0 ? "still running " + std::to_string(int(timeout)) + " s after Stop"
+                             : "exit status " + std::to_string(code));
+        } catch (const CouplingError& e) {
+            r.check(false, "keeps to the sequence Offer → Grant → Answer for 30 steps and ends on Stop", e.what());
+        }
+    }
+
+    // 2.–4. Bad messages from the fluid: the solver must stop with a non-zero status within its timeout.
+    struct Bad {
+        const char* what;
+        int kind; // 0 garbage, 1 wrong version, 2 wrong message
+    };
+    for (const Bad& b : {Bad{"garbage bytes instead of the Welcome", 0}, Bad{"a Welcome of protocol version 99", 1},
+                         Bad{"a Welcome where the Grant of step 1 is due", 2}}) {
+        Channel c(endpoint(), Channel::Role::Bind, "the solver", ms);
+        Subject s(command, c.endpoint(), log());
+        try {
+            c.receive(0, Envelope::kHello);
+            if (b.kind == 0) {
+                c.send_raw(std::string("\xff\x00 not a coupling envelope", 27));
+            } else if (b.kind == 1) {
+                Envelope w = welcome();
+                c.send_version(w, 99);
+            } else {
+                Envelope w = welcome();
+                c.send(w);
+                c.receive(1, Envelope::kOffer);
+                Envelope again = welcome();
+                again.set_step(1);
+                c.send(again);
+            }
+        } catch (const CouplingError& e) {
+            r.check(false, std::string("stops on ") + b.what, std::string("the run did not get that far: ") + e.what());
+            continue;
+        }
+        const int code = s.wait(timeout + 5);
+        r.check(code > 0, std::string("stops with a non-zero status on ") + b.what,
+                code == 0 ? "exit status 0" : "still running " + std::to_string(int(timeout + 5)) + " s later");
+    }
+    std::cout << "undex conform: " << (r.failed ? std::to_string(r.failed) + " check(s) failed" : "conforming")
+              << std::endl;
+    return r.failed;
+}
+
+} // namespace undex::coupling

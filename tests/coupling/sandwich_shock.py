@@ -1,0 +1,55 @@
+#!/usr/bin/python3
+"""Case 4.3 (cases/sandwich_shock_1d.case): the core's plastic compression strain against the impulse
+I0 = 2 p_m θ, unsupported and supported, from coupled two-process runs (cases/plot_sandwich_shock.py --sweep).
+
+Checks: each curve rises monotonically with I0; the supported plate's core crushes more than the
+unsupported one's at every I0 (the fixed back face cannot take up momentum); and the curves stay at the
+values pinned below. The pins are this code's results at 175 water cells (8 mm, degree 1; measured with
+`cases/plot_sandwich_shock.py --sweep DIR --cells 175`); they guard against unintended changes, with a 1 %
+tolerance: the same sweep at the case's 350 cells differs from them by at most 0.6 % (unsupported, 5 MPa),
+and 2000 cells of degree 2 differ from 350 cells by 0.5 % at 10 MPa (cases/sandwich_shock_1d.case).
+
+    sandwich_shock.py BIN_DIR CASES_DIR WORK_DIR
+"""
+import csv
+import os
+import subprocess
+import sys
+
+BIN, CASES, WORK = sys.argv[1:4]
+PINS = {  # (support, p_m): core strain at 175 cells
+    ("unsupported", 5e6): 0.010503,
+    ("unsupported", 1e7): 0.042511,
+    ("unsupported", 2e7): 0.158128,
+    ("supported", 5e6): 0.041511,
+    ("supported", 1e7): 0.161031,
+    ("supported", 2e7): 0.625069,
+}
+TOL = 0.01
+
+script = os.path.join(CASES, "plot_sandwich_shock.py")
+r = subprocess.run(["/usr/bin/python3", script, "--sweep", WORK, "--bin", BIN, "--case",
+                    os.path.join(CASES, "sandwich_shock_1d.case"), "--p-m", "5e6,1e7,2e7", "--end-time", "2.5e-3",
+                    "--cells", "175", "--jobs", "2"])
+if r.returncode != 0:
+    sys.exit(f"the sweep failed ({r.returncode})")
+rows = list(csv.DictReader(open(os.path.join(WORK, "core_strain.csv"))))
+strain = {(x["support"], float(x["p_m"])): float(x["core_strain"]) for x in rows}
+failures = []
+for support in ("unsupported", "supported"):
+    curve = [strain[(support, p)] for p in (5e6, 1e7, 2e7)]
+    if not all(b > a for a, b in zip(curve, curve[1:])):
+        failures.append(f"{support}: the core strain does not rise with the impulse: {curve}")
+for p in (5e6, 1e7, 2e7):
+    if not strain[("supported", p)] > strain[("unsupported", p)]:
+        failures.append(f"p_m {p:g}: the supported core crushes less than the unsupported one")
+for key, pin in PINS.items():
+    got = strain[key]
+    rel = abs(got - pin) / pin
+    print(f"{key[0]:>11} p_m {key[1]:7.3g}  core strain {got:.6f}  pinned {pin:.6f}  ({rel:.2%})")
+    if not rel <= TOL:
+        failures.append(f"{key}: core strain {got:.6f} is {rel:.2%} from the pinned {pin:.6f} (tolerance {TOL:.0%})")
+if failures:
+    print("\n".join(failures))
+    sys.exit(1)
+print("case 4.3: curves rise with the impulse and match the pinned values")
