@@ -80,7 +80,7 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
     out.write_fields(*solver);
     // Ends the run on an error: the last good state is written and marked, the structure told.
     auto fail = [&](const std::string& msg, int code) {
-        if (link && code != 3) link->fail(msg);
+        if (link) link->fail(msg); // best effort: the peer learns the cause
         out.write_fields(*solver, true);
         if (coupled) out.write_table("interface", history_columns, history);
         out.write_gauges();
@@ -140,6 +140,7 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
             }
             if (solver->steps() % p.gauge_every == 0 || hits_output) out.record_gauges(*solver);
             if (hits_output) {
+                if (link) link->heartbeat(); // the structure's wait restarts: an output may take a while
                 out.write_fields(*solver);
                 if (coupled) out.write_table("interface", history_columns, history);
                 ++next_output;

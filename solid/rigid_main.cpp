@@ -105,6 +105,7 @@ int run(const CaseFile& c, const std::string& couple) {
             if (g.output) out.write();
         }
     } catch (const coupling::CouplingError& e) {
+        link.fail(e.what());
         out.write();
         out.set_status(std::string("failed: coupling: ") + e.what());
         std::cerr << "undex-rigid: error: coupling: " << e.what() << "\nundex-rigid: the history up to t = " << t

@@ -357,7 +357,7 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
     std::vector<double> history; // t, dt, p_I, u_I per coupled step
     const std::vector<std::string> history_columns = {"t", "dt", "p_I", "u_I"};
     auto fail = [&](const std::string& msg, int code) {
-        if (link && code != 3) link->fail(msg);
+        if (link) link->fail(msg); // best effort: the peer learns the cause
         out.write_fields(s.time(), s.steps(), true);
         if (link) out.write_group_table("coupling", history_columns, history);
         out.set_status("failed: " + msg);
@@ -400,6 +400,7 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
             }
             if (s.steps() % p.gauge_every == 0 || hits) out.record(s.time(), s.energies());
             if (hits) {
+                if (link) link->heartbeat(); // the fluid's wait restarts: an output may take a while
                 out.write_fields(s.time(), s.steps());
                 if (link) out.write_group_table("coupling", history_columns, history);
             }
