@@ -93,12 +93,13 @@ Channel::~Channel() {
 
 void Channel::send(Envelope& e) {
     e.set_protocol(protocol_version);
-    const std::string bytes = e.SerializeAsString();
+    zmq::message_t frame(e.ByteSizeLong()); // serialised straight into the frame: no extra copy
+    e.SerializeWithCachedSizesToArray(static_cast<std::uint8_t*>(frame.data()));
     // A peer that is gone leaves nothing to take the message: the send gives up after the timeout.
     if (e.has_error()) socket_.set(zmq::sockopt::sndtimeo, 500); // a last word, not worth a long wait
     bool sent = false;
     try {
-        sent = socket_.send(zmq::buffer(bytes), zmq::send_flags::none).has_value();
+        sent = socket_.send(frame, zmq::send_flags::none).has_value();
     } catch (const zmq::error_t& err) {
         throw CouplingError("cannot send " + body_name(e.body_case()) + " to " + peer_ + " at step " +
                             std::to_string(e.step()) + ": " + err.what());
