@@ -92,6 +92,7 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
     };
     const auto start = std::chrono::steady_clock::now();
     auto last_progress = start;
+    double coupling_wall = 0; // inside the coupling library: waiting for and exchanging with the structure
     size_t next_output = 0;
     while (next_output < p.output_times.size() && p.output_times[next_output] <= solver->time()) ++next_output;
     try {
@@ -100,6 +101,7 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
                 return fail("stopped: numerics.max_steps = " + std::to_string(p.max_steps) + " reached at t = " +
                                 format("%.6g", solver->time()) + " s",
                             2);
+            const auto wait_start = std::chrono::steady_clock::now();
             if (link && !link->receive_offer(offer))
                 return fail("the structure solver stopped the run at step " + std::to_string(link->step()), 3);
             const double target = p.output_times[next_output];
@@ -128,6 +130,7 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
                 g.Z_L = {w.rho * a};
                 g.geometric = {m.alpha * dt * w.rho * a * a * w.u / x_I};
                 const coupling::Answer ans = link->exchange(dt, g);
+                coupling_wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - wait_start).count();
                 dt = g.dt; // = min(Δt_f, Δt_s): the step both sides take
                 solver->set_structure_state(ans.p_I[0], ans.u_I[0]);
                 history.insert(history.end(), {solver->time(), dt, w.p, w.u, g.Z_L[0], ans.p_I[0], ans.u_I[0],
@@ -165,7 +168,9 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
     if (coupled) out.write_table("interface", history_columns, history);
     out.set_status("complete");
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    log << "undex-fluid: done: " << solver->steps() << " steps, wall " << format("%.3f", wall) << " s" << std::endl;
+    log << "undex-fluid: done: " << solver->steps() << " steps, wall " << format("%.3f", wall) << " s";
+    if (link) log << format(" (coupling %.3f s, %.1f %%)", coupling_wall, 100 * coupling_wall / wall);
+    log << std::endl;
     return 0;
 }
 
