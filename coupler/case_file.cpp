@@ -24,7 +24,8 @@ namespace {
 
 class Collector : public pb::io::ErrorCollector {
   public:
-    explicit Collector(std::string file, std::string text = "") : file_(std::move(file)), text_(std::move(text)) {}
+    explicit Collector(std::string file, std::string text = "")
+        : file_(std::move(file)), text_(std::move(text)) {}
     void AddError(int line, pb::io::ColumnNumber column, const std::string& message) override {
         if (!first_.empty()) return;
         std::ostringstream s;
@@ -81,8 +82,7 @@ std::vector<PathStep> split_path(const std::string& path) {
 
 void apply_override(pb::Message& root, const std::string& assignment) {
     const auto eq = assignment.find('=');
-    if (eq == std::string::npos)
-        throw CaseError("--set " + assignment + ": expected key=value");
+    if (eq == std::string::npos) throw CaseError("--set " + assignment + ": expected key=value");
     const std::string key = assignment.substr(0, eq), value = assignment.substr(eq + 1);
     std::vector<PathStep> steps;
     try {

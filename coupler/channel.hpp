@@ -16,7 +16,6 @@ namespace undex::coupling {
 
 using wire::Envelope;
 
-
 class Channel {
   public:
     enum class Role { Bind, Connect };

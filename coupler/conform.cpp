@@ -169,7 +169,8 @@ int conform(const std::vector<std::string>& command, double timeout) {
             return r.failed + 1;
         }
         const std::string hp = hello_problems(h);
-        r.check(hp.empty(), "Hello: dimension, alpha, one position, unit normal and positive area per node", hp);
+        r.check(hp.empty(), "Hello: dimension, alpha, one position, unit normal and positive area per node",
+                hp);
         if (!hp.empty()) return r.failed;
         const int n = h.hello().x_size();
         Envelope w = welcome();
@@ -215,7 +216,8 @@ int conform(const std::vector<std::string>& command, double timeout) {
                     if (p < 2338) answer_problem += "step " + std::to_string(step) + ": p_I below p_floor; ";
                     // The interface condition p_I = p_L − Z (u_I − u_L) − geometric (u_L = geometric = 0).
                     const double expect = p_L - 1.5e6 * u;
-                    if (p > 2338 * (1 + 1e-9) && std::abs(p - expect) > 1e-6 * std::max(std::abs(p_L), 1.5e6 * std::abs(u)) + 1e-3) {
+                    if (p > 2338 * (1 + 1e-9) &&
+                        std::abs(p - expect) > 1e-6 * std::max(std::abs(p_L), 1.5e6 * std::abs(u)) + 1e-3) {
                         if (answer_problems++ == 0) {
                             std::ostringstream m;
                             m << "step " << step << ", node " << k << ": p_I = " << p
@@ -236,9 +238,11 @@ int conform(const std::vector<std::string>& command, double timeout) {
             if (answer_problems > 1)
                 answer_problem += " (and in " + std::to_string(answer_problems - 1) + " more answers)";
             r.check(answer_problem.empty(),
-                    "Answers: one finite p_I, u_I, x, y per node; p_I ≥ p_floor; p_I = p_L − Z_L (u_I − u_L) − geometric",
+                    "Answers: one finite p_I, u_I, x, y per node; p_I ≥ p_floor; p_I = p_L − Z_L (u_I − u_L) "
+                    "− geometric",
                     answer_problem);
-            r.check(sign_problem.empty(), "sign convention: pressure pushes the structure along n", sign_problem);
+            r.check(sign_problem.empty(), "sign convention: pressure pushes the structure along n",
+                    sign_problem);
             // After the last step the solver offers the next one and gets Stop.
             c.receive(steps + 1, Envelope::kOffer);
             Envelope stop;
@@ -250,7 +254,8 @@ int conform(const std::vector<std::string>& command, double timeout) {
                     code < 0 ? "still running " + std::to_string(int(timeout)) + " s after Stop"
                              : "exit status " + std::to_string(code));
         } catch (const CouplingError& e) {
-            r.check(false, "keeps to the sequence Offer → Grant → Answer for 30 steps and ends on Stop", e.what());
+            r.check(false, "keeps to the sequence Offer → Grant → Answer for 30 steps and ends on Stop",
+                    e.what());
         }
     }
 
@@ -259,8 +264,9 @@ int conform(const std::vector<std::string>& command, double timeout) {
         const char* what;
         int kind; // 0 garbage, 1 wrong version, 2 wrong message
     };
-    for (const Bad& b : {Bad{"garbage bytes instead of the Welcome", 0}, Bad{"a Welcome of protocol version 99", 1},
-                         Bad{"a Welcome where the Grant of step 1 is due", 2}}) {
+    for (const Bad& b :
+         {Bad{"garbage bytes instead of the Welcome", 0}, Bad{"a Welcome of protocol version 99", 1},
+          Bad{"a Welcome where the Grant of step 1 is due", 2}}) {
         Channel c(endpoint(), Channel::Role::Bind, "the solver", ms);
         Subject s(command, c.endpoint(), log());
         try {
@@ -279,15 +285,17 @@ int conform(const std::vector<std::string>& command, double timeout) {
                 c.send(again);
             }
         } catch (const CouplingError& e) {
-            r.check(false, std::string("stops on ") + b.what, std::string("the run did not get that far: ") + e.what());
+            r.check(false, std::string("stops on ") + b.what,
+                    std::string("the run did not get that far: ") + e.what());
             continue;
         }
         const int code = s.wait(timeout + 5);
         r.check(code > 0, std::string("stops with a non-zero status on ") + b.what,
-                code == 0 ? "exit status 0" : "still running " + std::to_string(int(timeout + 5)) + " s later");
+                code == 0 ? "exit status 0"
+                          : "still running " + std::to_string(int(timeout + 5)) + " s later");
     }
-    std::cout << "undex conform: " << (r.failed ? std::to_string(r.failed) + " check(s) failed" : "conforming")
-              << std::endl;
+    std::cout << "undex conform: "
+              << (r.failed ? std::to_string(r.failed) + " check(s) failed" : "conforming") << std::endl;
     return r.failed;
 }
 

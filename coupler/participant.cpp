@@ -9,16 +9,21 @@ namespace undex::coupling {
 
 namespace {
 
-template <class R> std::vector<double> to_vector(const R& r) { return std::vector<double>(r.begin(), r.end()); }
-template <class R> void set(R* r, const std::vector<double>& v) { r->Assign(v.begin(), v.end()); }
+template <class R> std::vector<double> to_vector(const R& r) {
+    return std::vector<double>(r.begin(), r.end());
+}
+template <class R> void set(R* r, const std::vector<double>& v) {
+    r->Assign(v.begin(), v.end());
+}
 
 // Checks that a message field holds one finite value per interface node.
 template <class R>
-void check_values(const R& r, size_t nodes, const std::string& peer, const std::string& what, std::int64_t step) {
+void check_values(const R& r, size_t nodes, const std::string& peer, const std::string& what,
+                  std::int64_t step) {
     std::ostringstream s;
     if (static_cast<size_t>(r.size()) != nodes) {
-        s << peer << " sent " << r.size() << " value(s) of " << what << " at step " << step << " for " << nodes
-          << " interface node(s)";
+        s << peer << " sent " << r.size() << " value(s) of " << what << " at step " << step << " for "
+          << nodes << " interface node(s)";
         throw CouplingError(s.str());
     }
     for (int k = 0; k < r.size(); ++k)
@@ -49,18 +54,21 @@ FluidParticipant::FluidParticipant(const Options& o, const std::string& solver, 
 
 FluidParticipant::~FluidParticipant() = default;
 
-const std::string& FluidParticipant::endpoint() const { return channel_->endpoint(); }
+const std::string& FluidParticipant::endpoint() const {
+    return channel_->endpoint();
+}
 
 Interface FluidParticipant::initialize(int dimension, int alpha, double end_time) {
     const Envelope e = channel_->receive(0, Envelope::kHello);
-    if (e.has_stop()) throw CouplingError("the structure solver stopped before the handshake: " + e.stop().reason());
+    if (e.has_stop())
+        throw CouplingError("the structure solver stopped before the handshake: " + e.stop().reason());
     const auto& h = e.hello();
     peer_ = h.solver() + " " + h.version();
     const std::string who = "the structure solver (" + peer_ + ")";
     std::ostringstream s;
     if (h.dimension() != dimension || h.alpha() != alpha) {
-        s << who << " models a " << h.dimension() << "D structure with alpha = " << h.alpha() << "; the fluid is "
-          << dimension << "D with alpha = " << alpha;
+        s << who << " models a " << h.dimension() << "D structure with alpha = " << h.alpha()
+          << "; the fluid is " << dimension << "D with alpha = " << alpha;
         throw CouplingError(s.str());
     }
     const size_t n = h.x_size();
@@ -81,8 +89,10 @@ Interface FluidParticipant::initialize(int dimension, int alpha, double end_time
             throw CouplingError(s.str());
         }
     }
-    interface_ = {h.dimension(), h.alpha(),        to_vector(h.x()),   to_vector(h.y()),
-                  to_vector(h.normal_x()), to_vector(h.normal_y()), to_vector(h.area())};
+    interface_ = {h.dimension(),           h.alpha(),
+                  to_vector(h.x()),        to_vector(h.y()),
+                  to_vector(h.normal_x()), to_vector(h.normal_y()),
+                  to_vector(h.area())};
     Envelope w;
     w.set_step(0);
     w.mutable_welcome()->set_solver(solver_);
@@ -141,8 +151,8 @@ Answer FluidParticipant::exchange(double dt_f, Grant& g) {
     for (size_t k = 0; k < n; ++k)
         if (a.p_i(k) < g.p_floor) {
             std::ostringstream s;
-            s << who << " answered p_I = " << a.p_i(k) << " Pa at interface node " << k << " at step " << step_
-              << ", below the floor p_floor = " << g.p_floor << " Pa";
+            s << who << " answered p_I = " << a.p_i(k) << " Pa at interface node " << k << " at step "
+              << step_ << ", below the floor p_floor = " << g.p_floor << " Pa";
             throw CouplingError(s.str());
         }
     return {to_vector(a.p_i()), to_vector(a.u_i()), to_vector(a.x()), to_vector(a.y())};
@@ -176,7 +186,8 @@ void FluidParticipant::heartbeat() {
 
 // ---- structure side ------------------------------------------------------------------------------------
 
-StructureParticipant::StructureParticipant(const Options& o, const std::string& solver, const std::string& version)
+StructureParticipant::StructureParticipant(const Options& o, const std::string& solver,
+                                           const std::string& version)
     : channel_(std::make_unique<Channel>(o.endpoint, Channel::Role::Connect, "the fluid solver",
                                          o.handshake_timeout_ms)),
       solver_(solver), version_(version), options_(o) {}
@@ -199,7 +210,8 @@ double StructureParticipant::initialize(const Interface& i) {
     nodes_ = i.size();
     channel_->send(e);
     const Envelope w = channel_->receive(0, Envelope::kWelcome);
-    if (w.has_stop()) throw CouplingError("the fluid solver stopped during the handshake: " + w.stop().reason());
+    if (w.has_stop())
+        throw CouplingError("the fluid solver stopped during the handshake: " + w.stop().reason());
     peer_ = w.welcome().solver() + " " + w.welcome().version();
     channel_->set_timeout(options_.timeout_ms);
     return w.welcome().end_time();
@@ -225,8 +237,8 @@ bool StructureParticipant::exchange(const Offer& offer, Grant& grant) {
     check_step(g.dt(), who, "dt", step_);
     if (g.dt() > offer.dt) {
         std::ostringstream s;
-        s << who << " granted dt = " << g.dt() << " s at step " << step_ << ", above the offered dt_s = " << offer.dt
-          << " s";
+        s << who << " granted dt = " << g.dt() << " s at step " << step_
+          << ", above the offered dt_s = " << offer.dt << " s";
         throw CouplingError(s.str());
     }
     check_values(g.p_l(), nodes_, who, "p_L", step_);

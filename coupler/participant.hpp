@@ -20,8 +20,8 @@ struct CouplingError : std::runtime_error {
 };
 
 struct Options {
-    std::string endpoint;            // ipc://PATH or tcp://HOST:PORT (tcp://HOST:* on the fluid side: any port)
-    int timeout_ms = 30000;          // longest wait for the peer's next message during the run
+    std::string endpoint;   // ipc://PATH or tcp://HOST:PORT (tcp://HOST:* on the fluid side: any port)
+    int timeout_ms = 30000; // longest wait for the peer's next message during the run
     int handshake_timeout_ms = 300000; // longest wait for the handshake (the peer may still be setting up)
 };
 
@@ -61,8 +61,8 @@ class FluidParticipant {
   public:
     FluidParticipant(const Options& o, const std::string& solver, const std::string& version);
     ~FluidParticipant();
-    // Waits for the structure's Hello, checks it (dimension and α must match, one value per node, unit normals,
-    // positive areas) and answers with this side's name and the end time.
+    // Waits for the structure's Hello, checks it (dimension and α must match, one value per node, unit
+    // normals, positive areas) and answers with this side's name and the end time.
     Interface initialize(int dimension, int alpha, double end_time);
     // The structure's offer for the next step; false when the structure ended the run (Stop).
     bool receive_offer(Offer& offer);

@@ -22,10 +22,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -36,13 +36,14 @@
 
 namespace {
 
-const char* usage = "usage:\n"
-                    "  undex check CASE [--set key=value]...\n"
-                    "  undex run CASE [--set key=value]... [--tcp | --endpoint ENDPOINT]\n"
-                    "  undex sample DIR --time T --line \"x0,y0 x1,y1\" --points N [--fields rho,u,v,p]\n"
-                    "  undex gauges DIR [--name NAME]\n"
-                    "  undex options\n"
-                    "  undex conform [--timeout S] -- COMMAND...   check a structure solver against the protocol\n";
+const char* usage =
+    "usage:\n"
+    "  undex check CASE [--set key=value]...\n"
+    "  undex run CASE [--set key=value]... [--tcp | --endpoint ENDPOINT]\n"
+    "  undex sample DIR --time T --line \"x0,y0 x1,y1\" --points N [--fields rho,u,v,p]\n"
+    "  undex gauges DIR [--name NAME]\n"
+    "  undex options\n"
+    "  undex conform [--timeout S] -- COMMAND...   check a structure solver against the protocol\n";
 
 struct Args {
     std::vector<std::string> positional;
@@ -135,18 +136,19 @@ int check(const Args& a) {
 
 // A child process whose stdout and stderr arrive on one pipe.
 struct Child {
-    std::string name;      // the prefix of its lines
+    std::string name; // the prefix of its lines
     pid_t pid = -1;
-    int fd = -1;           // read end of its output
-    std::string pending;   // an incomplete last line
-    std::ofstream log;     // <output>/<name>.log
-    int status = -1;       // exit code once ended (128 + signal when killed)
+    int fd = -1;         // read end of its output
+    std::string pending; // an incomplete last line
+    std::ofstream log;   // <output>/<name>.log
+    int status = -1;     // exit code once ended (128 + signal when killed)
     bool ended = false;
 };
 
 void spawn(Child& c, const std::vector<std::string>& args) {
     int fds[2];
-    if (pipe(fds) != 0) throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
+    if (pipe(fds) != 0)
+        throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
     std::vector<char*> argv;
     std::vector<std::string> copy = args;
     for (auto& s : copy)
@@ -222,9 +224,9 @@ int run_coupled(const Args& a, const undex::CaseFile& c, const std::filesystem::
     else if (a.options.count("tcp"))
         endpoint = "tcp://127.0.0.1:" + std::to_string(free_tcp_port());
     else
-        endpoint = "ipc://" + (std::filesystem::temp_directory_path() /
-                               ("undex-" + std::to_string(getpid()) + ".ipc"))
-                                  .string();
+        endpoint = "ipc://" +
+                   (std::filesystem::temp_directory_path() / ("undex-" + std::to_string(getpid()) + ".ipc"))
+                       .string();
     const auto plan = undex::fluid::plan(c);
     std::filesystem::create_directories(plan.directory);
     const auto& st = c.get().structure();
@@ -260,8 +262,10 @@ int run_coupled(const Args& a, const undex::CaseFile& c, const std::filesystem::
         int n = 0, which[2];
         for (int k = 0; k < 2; ++k)
             if (open[k]) fds[n] = {children[k].fd, POLLIN, 0}, which[n++] = k;
-        if (n > 0) poll(fds, n, 200);
-        else usleep(50000);
+        if (n > 0)
+            poll(fds, n, 200);
+        else
+            usleep(50000);
         for (int i = 0; i < n; ++i)
             if (fds[i].revents & (POLLIN | POLLHUP | POLLERR))
                 if (!pump(children[which[i]])) open[which[i]] = false, close(children[which[i]].fd);
@@ -274,7 +278,8 @@ int run_coupled(const Args& a, const undex::CaseFile& c, const std::filesystem::
         if (any_failed && stopped < 2 && since > std::chrono::seconds(stopped == 0 ? 5 : 8)) {
             for (auto& ch : children)
                 if (!ch.ended) {
-                    if (stopped == 0) std::cout << "undex: stopping " << ch.name << " (the other side failed)" << std::endl;
+                    if (stopped == 0)
+                        std::cout << "undex: stopping " << ch.name << " (the other side failed)" << std::endl;
                     kill(ch.pid, stopped == 0 ? SIGTERM : SIGKILL);
                     kill(ch.pid, SIGCONT);
                 }
@@ -457,8 +462,10 @@ int main(int argc, char** argv) {
             double timeout = 10;
             int k = 2;
             for (; k < argc && std::strcmp(argv[k], "--") != 0; ++k)
-                if (std::strcmp(argv[k], "--timeout") == 0 && k + 1 < argc) timeout = std::stod(argv[++k]);
-                else throw std::invalid_argument(std::string("conform: unexpected '") + argv[k] + "'");
+                if (std::strcmp(argv[k], "--timeout") == 0 && k + 1 < argc)
+                    timeout = std::stod(argv[++k]);
+                else
+                    throw std::invalid_argument(std::string("conform: unexpected '") + argv[k] + "'");
             std::vector<std::string> command(argv + std::min(k + 1, argc), argv + argc);
             return std::min(undex::coupling::conform(command, timeout), 100);
         }

@@ -13,8 +13,7 @@ namespace undex::fluid {
 namespace detail {
 
 // Ghost = interior polynomial mirrored in the face; the normal momentum negated for walls.
-template <int D, int K>
-inline void mirror(const double* in, double* out, int dir, bool negate_normal) {
+template <int D, int K> inline void mirror(const double* in, double* out, int dir, bool negate_normal) {
     using B = Basis<D, K>;
     constexpr int NV = D + 2;
     for (int v = 0; v < NV; ++v)
@@ -40,14 +39,18 @@ inline void pressure_ghost(const double* in, double* out, int side, double p_b, 
     const double p = eos.pressure(rho, in[(NV - 1) * NB] - ke);
     const double a = eos.sound_speed(rho, p);
     double rho_b;
-    if constexpr (Eos::barotropic) rho_b = eos.density(p_b);
-    else rho_b = rho * std::pow((p_b + eos.p_inf) / (p + eos.p_inf), 1.0 / eos.gamma);
+    if constexpr (Eos::barotropic)
+        rho_b = eos.density(p_b);
+    else
+        rho_b = rho * std::pow((p_b + eos.p_inf) / (p + eos.p_inf), 1.0 / eos.gamma);
     const double a_b = eos.sound_speed(rho_b, p_b);
     const double sign = side % 2 == 0 ? 1.0 : -1.0; // low side: u − 2a/(γ−1) leaves; high side: u + 2a/(γ−1)
     vel[dir] += sign * 2.0 * (a_b - a) / (eos.gamma - 1.0);
-    for (int i = 0; i < NV * NB; ++i) out[i] = 0.0;
+    for (int i = 0; i < NV * NB; ++i)
+        out[i] = 0.0;
     out[0] = rho_b;
-    for (int d = 0; d < D; ++d) out[(1 + d) * NB] = rho_b * vel[d];
+    for (int d = 0; d < D; ++d)
+        out[(1 + d) * NB] = rho_b * vel[d];
     out[(NV - 1) * NB] = eos.internal_energy(rho_b, p_b) + 0.5 * rho_b * (vel[0] * vel[0] + vel[1] * vel[1]);
 }
 
@@ -70,9 +73,11 @@ inline void structure_ghost(const double* in, double* out, int side, double p_I,
         rho_b = rho * std::pow((p_I + eos.p_inf) / (p + eos.p_inf), 1.0 / eos.gamma);
     }
     vel[dir] = side % 2 == 0 ? -u_I : u_I; // u_I is along the normal into the structure
-    for (int i = 0; i < NV * NB; ++i) out[i] = 0.0;
+    for (int i = 0; i < NV * NB; ++i)
+        out[i] = 0.0;
     out[0] = rho_b;
-    for (int d = 0; d < D; ++d) out[(1 + d) * NB] = rho_b * vel[d];
+    for (int d = 0; d < D; ++d)
+        out[(1 + d) * NB] = rho_b * vel[d];
     out[(NV - 1) * NB] = eos.internal_energy(rho_b, p_I) + 0.5 * rho_b * (vel[0] * vel[0] + vel[1] * vel[1]);
 }
 
@@ -101,10 +106,16 @@ void fill_ghosts(const Mesh& m, double* U, const std::array<Boundary, 4>& bc, co
             double* g = U + static_cast<long>(m.index(gi, gj)) * NC;
             const double* in = U + static_cast<long>(m.index(ii, ij)) * NC;
             switch (bc[side].type) {
-            case BoundaryType::Transmissive: detail::mirror<D, K>(in, g, dir, false); break;
+            case BoundaryType::Transmissive:
+                detail::mirror<D, K>(in, g, dir, false);
+                break;
             case BoundaryType::Wall:
-            case BoundaryType::Symmetry: detail::mirror<D, K>(in, g, dir, true); break;
-            case BoundaryType::Pressure: detail::pressure_ghost<D, K>(in, g, side, p_b, eos); break;
+            case BoundaryType::Symmetry:
+                detail::mirror<D, K>(in, g, dir, true);
+                break;
+            case BoundaryType::Pressure:
+                detail::pressure_ghost<D, K>(in, g, side, p_b, eos);
+                break;
             case BoundaryType::Structure:
                 detail::structure_ghost<D, K>(in, g, side, bc[side].p_I, bc[side].u_I, eos);
                 break;
@@ -112,7 +123,8 @@ void fill_ghosts(const Mesh& m, double* U, const std::array<Boundary, 4>& bc, co
                 const int pi = dir == 0 ? (high ? 0 : m.nx - 1) : s;
                 const int pj = dir == 1 ? (high ? 0 : m.ny - 1) : s;
                 const double* src = U + static_cast<long>(m.index(pi, pj)) * NC;
-                for (int k = 0; k < NC; ++k) g[k] = src[k];
+                for (int k = 0; k < NC; ++k)
+                    g[k] = src[k];
                 break;
             }
             }

@@ -53,7 +53,10 @@ struct CavitationModel {
             const double d2 = k * std::exp(-(s - ln_p_cav) / gamma_g); // k (p/p_cav)^(−1/γg)
             const double den = d1 + d2;
             const double f = (k * rho_g_cav + rho_l_cav) / den - rho;
-            if (f > 0) hi = s; else lo = s;
+            if (f > 0)
+                hi = s;
+            else
+                lo = s;
             const double pbar = p + B - A;
             const double dden_ds = -(1.0 / gamma_w) * d1 * p / pbar - (1.0 / gamma_g) * d2;
             const double drho_ds = -(k * rho_g_cav + rho_l_cav) * dden_ds / (den * den);
@@ -68,7 +71,7 @@ struct CavitationModel {
     // Wood's mixture sound speed: a⁻² = ρm [α/(ρg ag²) + (1−α)/(ρl al²)].
     double mixture_sound_speed(double p) const {
         const double pbar = p + B - A;
-        const double liquid = liquid_ratio(p, 1.0 / gamma_w);   // (p̄/p̄_cav)^(1/γw)
+        const double liquid = liquid_ratio(p, 1.0 / gamma_w);     // (p̄/p̄_cav)^(1/γw)
         const double vapour = std::pow(p / p_cav, 1.0 / gamma_g); // (p/p_cav)^(1/γg)
         const double ratio = k * liquid / vapour;
         const double alpha = ratio / (1.0 + ratio);
@@ -82,7 +85,8 @@ struct CavitationModel {
     double void_fraction(double p) const {
         if (p >= p_cav) return 0.0;
         const double pbar = p + B - A;
-        const double ratio = k * std::pow(pbar / pbar_cav, 1.0 / gamma_w) * std::pow(p / p_cav, -1.0 / gamma_g);
+        const double ratio =
+            k * std::pow(pbar / pbar_cav, 1.0 / gamma_w) * std::pow(p / p_cav, -1.0 / gamma_g);
         return ratio / (1.0 + ratio);
     }
 };

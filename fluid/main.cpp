@@ -15,13 +15,17 @@ int main(int argc, char** argv) {
     std::string path, couple;
     std::vector<std::string> overrides;
     for (int k = 1; k < argc; ++k) {
-        if (std::strcmp(argv[k], "--set") == 0 && k + 1 < argc) overrides.push_back(argv[++k]);
-        else if (std::strncmp(argv[k], "--set=", 6) == 0) overrides.push_back(argv[k] + 6);
-        else if (std::strcmp(argv[k], "--couple") == 0 && k + 1 < argc) couple = argv[++k];
+        if (std::strcmp(argv[k], "--set") == 0 && k + 1 < argc)
+            overrides.push_back(argv[++k]);
+        else if (std::strncmp(argv[k], "--set=", 6) == 0)
+            overrides.push_back(argv[k] + 6);
+        else if (std::strcmp(argv[k], "--couple") == 0 && k + 1 < argc)
+            couple = argv[++k];
         else if (argv[k][0] == '-') {
             std::cerr << usage;
             return 64;
-        } else path = argv[k];
+        } else
+            path = argv[k];
     }
     if (path.empty()) {
         std::cerr << usage;

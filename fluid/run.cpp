@@ -36,8 +36,9 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
     validate(c);
     const bool coupled = coupled_case(c);
     if (coupled && couple.empty())
-        c.fail("boundaries.x_max", "the case couples the fluid to a structure: run it with `undex run`, or give "
-                                   "undex-fluid --couple ENDPOINT and start a structure solver on it");
+        c.fail("boundaries.x_max",
+               "the case couples the fluid to a structure: run it with `undex run`, or give "
+               "undex-fluid --couple ENDPOINT and start a structure solver on it");
     if (!coupled && !couple.empty())
         c.fail("boundaries.x_max", "--couple needs a structure in the case (x_max: STRUCTURE)");
 #ifdef _OPENMP
@@ -58,7 +59,8 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
     coupling::Offer offer;
     double x0_I = 0;
     std::vector<double> history; // t, dt, p_L, u_L, Z_L, p_I, u_I, displacement per step
-    const std::vector<std::string> history_columns = {"t", "dt", "p_L", "u_L", "Z_L", "p_I", "u_I", "displacement"};
+    const std::vector<std::string> history_columns = {"t",   "dt",  "p_L", "u_L",
+                                                      "Z_L", "p_I", "u_I", "displacement"};
     if (coupled) {
         coupling::Options o;
         o.endpoint = couple;
@@ -85,31 +87,34 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
         if (coupled) out.write_table("interface", history_columns, history);
         out.write_gauges();
         out.set_status("failed: " + msg);
-        log << "undex-fluid: error: " << msg << "\nundex-fluid: the last good state (t = "
-            << format("%.9g", solver->time()) << " s, step " << solver->steps() << ") is in " << out.path()
-            << std::endl;
+        log << "undex-fluid: error: " << msg
+            << "\nundex-fluid: the last good state (t = " << format("%.9g", solver->time()) << " s, step "
+            << solver->steps() << ") is in " << out.path() << std::endl;
         return code;
     };
     const auto start = std::chrono::steady_clock::now();
     auto last_progress = start;
     double coupling_wall = 0; // inside the coupling library: waiting for and exchanging with the structure
     size_t next_output = 0;
-    while (next_output < p.output_times.size() && p.output_times[next_output] <= solver->time()) ++next_output;
+    while (next_output < p.output_times.size() && p.output_times[next_output] <= solver->time())
+        ++next_output;
     try {
         while (solver->time() < p.end_time * (1 - 1e-14)) {
             if (solver->steps() >= p.max_steps)
-                return fail("stopped: numerics.max_steps = " + std::to_string(p.max_steps) + " reached at t = " +
-                                format("%.6g", solver->time()) + " s",
+                return fail("stopped: numerics.max_steps = " + std::to_string(p.max_steps) +
+                                " reached at t = " + format("%.6g", solver->time()) + " s",
                             2);
             const auto wait_start = std::chrono::steady_clock::now();
             if (link && !link->receive_offer(offer))
-                return fail("the structure solver stopped the run at step " + std::to_string(link->step()), 3);
+                return fail("the structure solver stopped the run at step " + std::to_string(link->step()),
+                            3);
             const double target = p.output_times[next_output];
             double dt = solver->stable_dt();
             if (link) dt = std::min(dt, offer.dt);
             if (!(dt > 0) || !std::isfinite(dt))
-                return fail("time step " + format("%g", dt) + " s is not positive and finite at t = " +
-                                format("%.6g", solver->time()) + " s, step " + std::to_string(solver->steps()),
+                return fail("time step " + format("%g", dt) +
+                                " s is not positive and finite at t = " + format("%.6g", solver->time()) +
+                                " s, step " + std::to_string(solver->steps()),
                             2);
             bool hits_output = false;
             if (solver->time() + dt >= target * (1 - 1e-12)) {
@@ -130,7 +135,8 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
                 g.Z_L = {w.rho * a};
                 g.geometric = {m.alpha * dt * w.rho * a * a * w.u / x_I};
                 const coupling::Answer ans = link->exchange(dt, g);
-                coupling_wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - wait_start).count();
+                coupling_wall +=
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - wait_start).count();
                 dt = g.dt; // = min(Δt_f, Δt_s): the step both sides take
                 solver->set_structure_state(ans.p_I[0], ans.u_I[0]);
                 history.insert(history.end(), {solver->time(), dt, w.p, w.u, g.Z_L[0], ans.p_I[0], ans.u_I[0],
@@ -154,8 +160,8 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
                 const double wall = std::chrono::duration<double>(now - start).count();
                 const double frac = solver->time() / p.end_time;
                 log << "step " << solver->steps()
-                    << format("  t = %.4e s (%5.1f%%)  dt = %.3e s  wall %.1f s  left ~%.1f s", solver->time(),
-                              100 * frac, dt, wall, frac > 0 ? wall * (1 - frac) / frac : 0.0)
+                    << format("  t = %.4e s (%5.1f%%)  dt = %.3e s  wall %.1f s  left ~%.1f s",
+                              solver->time(), 100 * frac, dt, wall, frac > 0 ? wall * (1 - frac) / frac : 0.0)
                     << std::endl;
                 last_progress = now;
             }

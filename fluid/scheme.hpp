@@ -225,8 +225,10 @@ template <int D, int K, class Eos> class Scheme final : public FluidSolver {
     }
 
     double pressure_floor() const override {
-        if constexpr (Eos::barotropic) return eos_.cavitation ? eos_.cav.p_cav : eos_.A - eos_.B;
-        else return -eos_.p_inf;
+        if constexpr (Eos::barotropic)
+            return eos_.cavitation ? eos_.cav.p_cav : eos_.A - eos_.B;
+        else
+            return -eos_.p_inf;
     }
 
     void set_structure_state(double p_I, double u_I) override {

@@ -276,7 +276,9 @@ void validate(const CaseFile& cf) {
     validate_boundary(cf, b.x_max(), "boundaries.x_max");
     for (const auto* side : {&b.x_min(), &b.y_min(), &b.y_max()})
         if (side->type() == cfg::Boundary::STRUCTURE)
-            cf.fail(side == &b.x_min() ? "boundaries.x_min" : side == &b.y_min() ? "boundaries.y_min" : "boundaries.y_max",
+            cf.fail(side == &b.x_min()   ? "boundaries.x_min"
+                    : side == &b.y_min() ? "boundaries.y_min"
+                                         : "boundaries.y_max",
                     "the structure's wet face is the x_max side (STRUCTURE there)");
     if (b.x_max().type() == cfg::Boundary::STRUCTURE) {
         if (!c.has_structure())

@@ -50,7 +50,7 @@ class FluidSolver {
     virtual ~FluidSolver() = default;
     virtual const Mesh& mesh() const = 0;
     virtual int degree() const = 0;
-    virtual int variables() const = 0;      // NV = dim + 2
+    virtual int variables() const = 0;       // NV = dim + 2
     virtual int basis_functions() const = 0; // NB
     virtual double time() const = 0;
     virtual long steps() const = 0;

@@ -18,8 +18,8 @@
 #include <array>
 #include <cmath>
 #include <memory>
-#include <string>
 #include <sstream>
+#include <string>
 #include <vector>
 
 namespace undex::fluid {
@@ -53,8 +53,9 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
     TwoFluid(const Mesh& mesh, const EosM& eos_m, const EosP& eos_p, const Settings& s,
              const std::array<Boundary, 4>& bc, const InterfaceSettings& is, const std::string& minus_name,
              const std::string& plus_name)
-        : mesh_(mesh), set_(is), names_{minus_name, plus_name}, minus_(mesh, eos_m, s, bc), plus_(mesh, eos_p, s, bc), phi_(mesh),
-          mat_m_(riemann_material(eos_m)), mat_p_(riemann_material(eos_p)) {
+        : mesh_(mesh), set_(is), names_{minus_name, plus_name}, minus_(mesh, eos_m, s, bc),
+          plus_(mesh, eos_p, s, bc), phi_(mesh), mat_m_(riemann_material(eos_m)),
+          mat_p_(riemann_material(eos_p)) {
         active_m_.assign(mesh_.padded_cells(), 0);
         active_p_.assign(mesh_.padded_cells(), 0);
         minus_.set_active(&active_m_);
@@ -158,7 +159,9 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
         j = std::clamp(j, 0, mesh_.ny - 1);
         return phi_(i, j) < 0 ? minus_.sound_speed(x, y) : plus_.sound_speed(x, y);
     }
-    double pressure_floor() const override { return std::max(minus_.pressure_floor(), plus_.pressure_floor()); }
+    double pressure_floor() const override {
+        return std::max(minus_.pressure_floor(), plus_.pressure_floor());
+    }
     void set_structure_state(double p_I, double u_I) override {
         minus_.set_structure_state(p_I, u_I);
         plus_.set_structure_state(p_I, u_I);

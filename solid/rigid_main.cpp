@@ -1,5 +1,6 @@
-// undex-rigid CASE [--set key=value]... --couple ENDPOINT: a rigid plate per unit area (structure.rigid_plate)
-// driven by the fluid through the coupling protocol: the alternative structure solver of the simplest kind.
+// undex-rigid CASE [--set key=value]... --couple ENDPOINT: a rigid plate per unit area
+// (structure.rigid_plate) driven by the fluid through the coupling protocol: the alternative structure solver
+// of the simplest kind.
 //     m du/dt = p_I − p_back − k x − c du/dt,   x the displacement along the normal into the plate,
 // central differences with the interface condition of physics.md §5 solved together with the plate's
 // equation of motion (interface_node.hpp); the dashpot uses the velocity of the last half step.
@@ -93,8 +94,8 @@ int run(const CaseFile& c, const std::string& couple) {
             if (!link.exchange({m.dt, {x}, {0.0}, {v}}, g)) break;
             const double h = n == 0 ? 0.5 * g.dt : 0.5 * (g.dt + last_dt);
             const double F = -m.back_pressure - m.stiffness * x - m.damping * v;
-            const auto s = solid::solve_interface_node(m.mass_per_area, v, h, F, 1.0,
-                                                       {g.p_L[0], g.u_L[0], g.Z_L[0], g.geometric[0], g.p_floor});
+            const auto s = solid::solve_interface_node(
+                m.mass_per_area, v, h, F, 1.0, {g.p_L[0], g.u_L[0], g.Z_L[0], g.geometric[0], g.p_floor});
             v = s.u_I;
             x += g.dt * v;
             link.answer({{s.p_I}, {s.u_I}, {x}, {0.0}});
@@ -108,8 +109,8 @@ int run(const CaseFile& c, const std::string& couple) {
         link.fail(e.what());
         out.write();
         out.set_status(std::string("failed: coupling: ") + e.what());
-        std::cerr << "undex-rigid: error: coupling: " << e.what() << "\nundex-rigid: the history up to t = " << t
-                  << " s is in " << out.path() << std::endl;
+        std::cerr << "undex-rigid: error: coupling: " << e.what()
+                  << "\nundex-rigid: the history up to t = " << t << " s is in " << out.path() << std::endl;
         return 3;
     }
     out.write();

@@ -200,7 +200,7 @@ class StructureOutput {
     }
     // A table of one dataset per column in group.
     void write_group_table(const std::string& group, const std::vector<std::string>& columns,
-                     const std::vector<double>& data) {
+                           const std::vector<double>& data) {
         if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) <= 0)
             H5Gclose(H5Gcreate2(file_, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
         write_table(group.c_str(), columns, data);
@@ -315,8 +315,9 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
     StructureModel model = make_structure(c); // checks the whole structure part first
     const auto p = fluid::plan(c);
     if (model.wet && couple.empty())
-        c.fail("structure.front", "the structure is coupled to the case's fluid: run it with `undex run`, or give "
-                                  "undex-solid --couple ENDPOINT with the fluid solver bound there");
+        c.fail("structure.front",
+               "the structure is coupled to the case's fluid: run it with `undex run`, or give "
+               "undex-solid --couple ENDPOINT with the fluid solver bound there");
     if (!model.wet && !couple.empty())
         c.fail("structure.front", "--couple needs a front face wetted by a fluid (FLUID)");
 #ifdef _OPENMP
@@ -361,8 +362,9 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
         out.write_fields(s.time(), s.steps(), true);
         if (link) out.write_group_table("coupling", history_columns, history);
         out.set_status("failed: " + msg);
-        log << "undex-solid: error: " << msg << "\nundex-solid: the last good state (t = " << fmt("%.9g", s.time())
-            << " s, step " << s.steps() << ") is in " << out.path() << std::endl;
+        log << "undex-solid: error: " << msg
+            << "\nundex-solid: the last good state (t = " << fmt("%.9g", s.time()) << " s, step " << s.steps()
+            << ") is in " << out.path() << std::endl;
         return code;
     };
     const auto start = std::chrono::steady_clock::now();
@@ -376,7 +378,8 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
             FluidCharacteristic fluid;
             if (link) { // the fluid owns the clock: it grants the step and asks for outputs
                 coupling::Offer o;
-                o.dt = dt, o.x = {s.column().displacement(0)}, o.y = {0.0}, o.velocity = {s.column().velocity(0)};
+                o.dt = dt, o.x = {s.column().displacement(0)}, o.y = {0.0},
+                o.velocity = {s.column().velocity(0)};
                 if (!link->exchange(o, g)) break;
                 dt = g.dt, hits = g.output;
                 fluid = {g.p_L[0], g.u_L[0], g.Z_L[0], g.geometric[0], g.p_floor};
@@ -389,8 +392,10 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
             InterfaceSolution wet;
             try {
                 // On failure the model is left at its last good state.
-                if (link) wet = model.column->step(dt, &fluid);
-                else s.step(dt);
+                if (link)
+                    wet = model.column->step(dt, &fluid);
+                else
+                    s.step(dt);
             } catch (const StructureFailure& f) {
                 return fail(f.what(), 2);
             }

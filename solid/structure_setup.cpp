@@ -139,7 +139,8 @@ RigidPlateModel make_rigid_plate(const CaseFile& cf) {
     if (st.materials_size()) cf.fail("structure.materials", "a rigid plate has no materials");
     if (st.layers_size()) cf.fail("structure.layers", "a rigid plate has no layers");
     if (st.has_plate()) cf.fail("structure.plate", "a rigid plate has no 'plate' mesh");
-    if (st.gauges_size()) cf.fail("structure.gauges", "a rigid plate has no gauges (its history is solid.h5 /gauges/plate)");
+    if (st.gauges_size())
+        cf.fail("structure.gauges", "a rigid plate has no gauges (its history is solid.h5 /gauges/plate)");
     check_face(cf, st.front(), "structure.front");
     if (st.front().type() != cfg::SolidFace::FLUID)
         cf.fail("structure.front.type", "a rigid plate is driven by the fluid: its front face is FLUID");
@@ -150,7 +151,8 @@ RigidPlateModel make_rigid_plate(const CaseFile& cf) {
     if (!(r.stiffness() >= 0)) cf.fail("structure.rigid_plate.stiffness", "must be >= 0");
     if (!(r.damping() >= 0)) cf.fail("structure.rigid_plate.damping", "must be >= 0");
     if (!std::isfinite(r.back_pressure())) cf.fail("structure.rigid_plate.back_pressure", "must be finite");
-    if (!(st.safety() > 0 && st.safety() <= 1)) cf.fail("structure.safety", "safety factor must lie in (0, 1]");
+    if (!(st.safety() > 0 && st.safety() <= 1))
+        cf.fail("structure.safety", "safety factor must lie in (0, 1]");
     RigidPlateModel m{r.mass_per_area(), r.stiffness(), r.damping(), r.back_pressure(), 0};
     // A spring–mass oscillator of period 2π sqrt(m/k) needs steps well below it; without a spring any step.
     m.dt = m.stiffness > 0 ? st.safety() * 0.1 * std::sqrt(m.mass_per_area / m.stiffness) : 1e300;
@@ -166,7 +168,8 @@ void check_structure(const CaseFile& cf) {
     if (st.has_command()) {
         if (st.command().find_first_not_of(" \t") == std::string::npos)
             cf.fail("structure.command", "the command is empty");
-        if (!has_fluid(cf)) cf.fail("structure.command", "another structure solver needs a fluid to couple with");
+        if (!has_fluid(cf))
+            cf.fail("structure.command", "another structure solver needs a fluid to couple with");
         check_face(cf, st.front(), "structure.front");
         return;
     }

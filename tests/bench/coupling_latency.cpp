@@ -66,14 +66,16 @@ Args parse(int argc, char** argv) {
 std::string bind_endpoint(const std::string& e) {
     if (e == "ipc") {
         const char* tmp = std::getenv("TMPDIR");
-        return "ipc://" + std::string(tmp && *tmp ? tmp : "/tmp") + "/undex-bench-" + std::to_string(getpid()) +
-               ".ipc";
+        return "ipc://" + std::string(tmp && *tmp ? tmp : "/tmp") + "/undex-bench-" +
+               std::to_string(getpid()) + ".ipc";
     }
     if (e == "tcp") return "tcp://127.0.0.1:*";
     return e;
 }
 
-std::string kind(const std::string& e) { return e.rfind("tcp", 0) == 0 ? "tcp" : "ipc"; }
+std::string kind(const std::string& e) {
+    return e.rfind("tcp", 0) == 0 ? "tcp" : "ipc";
+}
 
 Options options(const std::string& endpoint) {
     Options o;
@@ -113,7 +115,8 @@ int run_structure(const std::string& endpoint, long n) {
             link->answer(answer);
         return 0;
     } catch (const CouplingError& e) {
-        // No fail(): the error is the connection's or the peer's, and a send to a peer that is gone can block.
+        // No fail(): the error is the connection's or the peer's, and a send to a peer that is gone can
+        // block.
         std::cerr << "coupling_latency: structure: " << e.what() << std::endl;
         return 1;
     }
@@ -135,8 +138,8 @@ int run_fluid(FluidParticipant& link, const Args& a) {
     us.reserve(a.steps);
     for (long step = 0; step < warm_up + a.steps; ++step) {
         const auto start = std::chrono::steady_clock::now();
-        if (!link.receive_offer(offer)) throw CouplingError("the structure side stopped at step " +
-                                                            std::to_string(step + 1));
+        if (!link.receive_offer(offer))
+            throw CouplingError("the structure side stopped at step " + std::to_string(step + 1));
         const Answer answer = link.exchange(1e-7, grant);
         const auto end = std::chrono::steady_clock::now();
         if (step >= warm_up) us.push_back(std::chrono::duration<double, std::micro>(end - start).count());
@@ -155,8 +158,9 @@ int run_fluid(FluidParticipant& link, const Args& a) {
     const double bytes = 8.0 * (11.0 * n + 4);
     const double mb_per_s = bytes / (median * 1e-6) / 1e6;
     char line[256];
-    std::snprintf(line, sizeof line, "nodes %ld endpoint-kind %s  round trip median %.1f us  p90 %.1f us  "
-                                     "throughput %.1f MB/s",
+    std::snprintf(line, sizeof line,
+                  "nodes %ld endpoint-kind %s  round trip median %.1f us  p90 %.1f us  "
+                  "throughput %.1f MB/s",
                   n, kind(link.endpoint()).c_str(), median, p90, mb_per_s);
     std::cout << line << std::endl;
     return 0;
@@ -166,7 +170,8 @@ int run_fluid(FluidParticipant& link, const Args& a) {
 int fluid_side(const Args& a, int announce, pid_t child) {
     std::unique_ptr<FluidParticipant> link;
     try {
-        link = std::make_unique<FluidParticipant>(options(bind_endpoint(a.endpoint)), "coupling_latency", "0.1.0");
+        link = std::make_unique<FluidParticipant>(options(bind_endpoint(a.endpoint)), "coupling_latency",
+                                                  "0.1.0");
         if (announce >= 0) {
             const std::string e = link->endpoint() + "\n";
             if (write(announce, e.data(), e.size()) != static_cast<ssize_t>(e.size()))
@@ -180,7 +185,8 @@ int fluid_side(const Args& a, int announce, pid_t child) {
         link.reset(); // closes the socket (and removes the ipc file) before the child is waited for
         return code;
     } catch (const CouplingError& e) {
-        std::cerr << "coupling_latency: fluid: " << e.what() << std::endl; // no fail(), as on the structure side
+        std::cerr << "coupling_latency: fluid: " << e.what()
+                  << std::endl; // no fail(), as on the structure side
         if (announce >= 0) close(announce);
         if (child > 0) kill(child, SIGTERM);
         return 1;
