@@ -73,6 +73,11 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
             throw coupling::CouplingError("the structure solver (" + link->peer_solver() + ") has " +
                                           std::to_string(iface.size()) +
                                           " interface nodes; a 1D fluid couples to one");
+        if (std::abs(iface.normal_x[0] - 1) > 1e-9)
+            throw coupling::CouplingError("the structure solver (" + link->peer_solver() +
+                                          ") gives its wet face the normal (" + std::to_string(iface.normal_x[0]) +
+                                          ", " + std::to_string(iface.normal_y[0]) +
+                                          "); the fluid lies at x < x_max, so it must be (1, 0)");
         x0_I = iface.x[0];
         log << "undex-fluid: coupled to " << link->peer_solver() << std::endl;
     }

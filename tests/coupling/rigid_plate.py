@@ -89,6 +89,9 @@ def main():
                 return 0
             g = g.grant
             dt = g.dt
+            if not (0 < dt <= a.dt) or len(g.p_L) != 1 or len(g.u_L) != 1 or len(g.Z_L) != 1 or len(g.geometric) != 1:
+                raise RuntimeError(f"the fluid solver sent a Grant at step {step} with dt = {dt} (offered {a.dt}) "
+                                   "or not one value per interface node")
             # Central differences: m (v_new - v) = h (F + p_I), h the mean of the last two steps (half a step
             # at the start); p_I = p_L - Z (v_new - u_L) - geometric from the fluid's characteristic.
             h = 0.5 * dt if step == 1 else 0.5 * (dt + last_dt)
