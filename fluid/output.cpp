@@ -20,7 +20,7 @@ Output::Output(const std::string& directory, const std::string& case_text, const
     std::filesystem::create_directories(directory);
     h5_path_ = (std::filesystem::path(directory) / "fluid.h5").string();
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-    file_ = H5Fcreate(h5_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    file_ = h5::create(h5_path_);
     if (file_ < 0) throw std::runtime_error(h5_path_ + ": cannot create the output file");
     const Mesh& m = solver.mesh();
     dim_ = m.dim, nx_ = m.nx, ny_ = m.ny;

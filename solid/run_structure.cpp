@@ -43,7 +43,7 @@ class StructureOutput {
         std::filesystem::create_directories(dir);
         path_ = (std::filesystem::path(dir) / "solid.h5").string();
         H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-        file_ = H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+        file_ = h5::create(path_);
         if (file_ < 0) throw std::runtime_error(path_ + ": cannot create the output file");
         h5::write_attr_string(file_, "case", case_text);
         h5::write_attr<long>(file_, "dimension", m.plate ? 2 : 1);

@@ -129,6 +129,9 @@ def kill_mid_run(victim, source, name):
         check(False, f"SIGKILL {victim}: the run never started", launcher.communicate()[0][-1500:])
         return
     time.sleep(0.5)
+    # While the run goes on, both outputs open (no HDF5 file lock) and say so.
+    running = [status_of(os.path.join(out, f"{side}.h5")) for side in ("fluid", "solid")]
+    check(running == ["running", "running"], f"outputs readable during the run ({victim} case)", str(running))
     t0 = time.monotonic()
     os.kill(pid, signal.SIGKILL)
     text = launcher.communicate(timeout=120)[0]
