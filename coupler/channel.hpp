@@ -9,8 +9,10 @@
 #include <zmq.hpp>
 
 #include <cstdint>
+#include <deque>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace undex::coupling {
 
@@ -45,8 +47,11 @@ class Channel {
   private:
     zmq::context_t context_;
     zmq::socket_t socket_;
-    zmq::socket_t monitor_; // connection events of socket_: a vanished peer ends a wait at once
-    bool connected_ = false;
+    zmq::socket_t monitor_;   // connection events of socket_: a vanished peer ends a wait at once
+    std::deque<int> pending_; // connections made, ZeroMQ handshake not yet done
+    std::vector<int> peers_;  // connections whose handshake succeeded
+    bool peer_lost_ = false;  // one of them closed
+    void on_event(int event, int fd);
     std::string endpoint_, peer_, ipc_path_;
     int timeout_ms_;
 };

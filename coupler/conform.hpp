@@ -9,4 +9,7 @@ namespace undex::coupling {
 // line per check and returns the number of failed checks. timeout: seconds to wait for the solver.
 int conform(const std::vector<std::string>& command, double timeout);
 
+// s quoted for /bin/sh (single quotes, embedded ones escaped).
+std::string shell_quote(const std::string& s);
+
 } // namespace undex::coupling

@@ -59,6 +59,15 @@ const std::string& FluidParticipant::endpoint() const {
 }
 
 Interface FluidParticipant::initialize(int dimension, int alpha, double end_time) {
+    try {
+        return handshake(dimension, alpha, end_time);
+    } catch (const CouplingError& e) {
+        fail(e.what()); // the structure learns why
+        throw;
+    }
+}
+
+Interface FluidParticipant::handshake(int dimension, int alpha, double end_time) {
     const Envelope e = channel_->receive(0, Envelope::kHello);
     if (e.has_stop())
         throw CouplingError("the structure solver stopped before the handshake: " + e.stop().reason());
@@ -106,7 +115,10 @@ Interface FluidParticipant::initialize(int dimension, int alpha, double end_time
 bool FluidParticipant::receive_offer(Offer& offer) {
     ++step_;
     const Envelope e = channel_->receive(step_, Envelope::kOffer);
-    if (e.has_stop()) return false;
+    if (e.has_stop()) {
+        stop_reason_ = e.stop().reason();
+        return false;
+    }
     const auto& o = e.offer();
     const size_t n = interface_.size();
     const std::string& who = channel_->peer();

@@ -78,10 +78,13 @@ class FluidParticipant {
     std::int64_t step() const { return step_; }
     const std::string& endpoint() const;
     const std::string& peer_solver() const { return peer_; }
+    // The reason the structure gave when it ended the run with Stop.
+    const std::string& stop_reason() const { return stop_reason_; }
 
   private:
+    Interface handshake(int dimension, int alpha, double end_time);
     std::unique_ptr<Channel> channel_;
-    std::string solver_, version_, peer_;
+    std::string solver_, version_, peer_, stop_reason_;
     Options options_;
     Interface interface_;
     std::int64_t step_ = 0;

@@ -15,6 +15,7 @@
 #include "structure_setup.hpp"
 
 #include <arpa/inet.h>
+#include <fcntl.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
@@ -24,6 +25,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -134,6 +136,8 @@ int check(const Args& a) {
     return 0;
 }
 
+volatile std::sig_atomic_t interrupted = 0; // 1: SIGINT or SIGTERM arrived, 2: passed on to both sides
+
 // A child process whose stdout and stderr arrive on one pipe.
 struct Child {
     std::string name; // the prefix of its lines
@@ -147,7 +151,7 @@ struct Child {
 
 void spawn(Child& c, const std::vector<std::string>& args) {
     int fds[2];
-    if (pipe(fds) != 0)
+    if (pipe2(fds, O_CLOEXEC) != 0) // not inherited by the other side's process
         throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
     std::vector<char*> argv;
     std::vector<std::string> copy = args;
@@ -155,8 +159,13 @@ void spawn(Child& c, const std::vector<std::string>& args) {
         argv.push_back(s.data());
     argv.push_back(nullptr);
     const pid_t pid = fork();
-    if (pid < 0) throw std::runtime_error(std::string("cannot start a process: ") + std::strerror(errno));
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        throw std::runtime_error(std::string("cannot start a process: ") + std::strerror(errno));
+    }
     if (pid == 0) {
+        setpgid(0, 0); // its own process group: stopping it reaches whatever it starts
         dup2(fds[1], 1);
         dup2(fds[1], 2);
         close(fds[0]);
@@ -232,7 +241,8 @@ int run_coupled(const Args& a, const undex::CaseFile& c, const std::filesystem::
     const auto& st = c.get().structure();
     std::vector<std::string> fluid = {(bin / "undex-fluid").string(), a.positional[0]}, solid;
     if (st.has_command()) {
-        solid = {"/bin/sh", "-c", "exec " + st.command() + " --couple '" + endpoint + "'"};
+        solid = {"/bin/sh", "-c",
+                 "exec " + st.command() + " --couple " + undex::coupling::shell_quote(endpoint)};
     } else {
         solid = {(bin / (st.has_rigid_plate() ? "undex-rigid" : "undex-solid")).string(), a.positional[0]};
     }
@@ -247,17 +257,31 @@ int run_coupled(const Args& a, const undex::CaseFile& c, const std::filesystem::
     children[1].name = "solid";
     std::cout << "undex: " << a.positional[0] << ": coupled run over " << endpoint << "; logs "
               << plan.directory << "/fluid.log, " << plan.directory << "/solid.log" << std::endl;
-    for (int k = 0; k < 2; ++k) {
-        children[k].log.open(std::filesystem::path(plan.directory) / (children[k].name + ".log"));
-        spawn(children[k], k == 0 ? fluid : solid);
+    try {
+        for (int k = 0; k < 2; ++k)
+            spawn(children[k], k == 0 ? fluid : solid);
+    } catch (...) {
+        if (children[0].pid > 0) kill(-children[0].pid, SIGKILL), reap(children[0], true);
+        throw;
     }
-    // Interleave the output until both pipes close; when one side fails, the other gets a grace period to
+    for (auto& ch : children) // opened after both started, so that neither inherits the other's log
+        ch.log.open(std::filesystem::path(plan.directory) / (ch.name + ".log"));
+    // SIGINT or SIGTERM to undex stops both sides (each runs in its own process group).
+    struct sigaction sa {};
+    sa.sa_handler = [](int) { interrupted = 1; };
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+    // Interleave the output until both sides ended; when one side fails, the other gets a grace period to
     // notice (it writes its last output), then is stopped.
     bool open[2] = {true, true};
     std::chrono::steady_clock::time_point failed_at{};
     bool any_failed = false;
     int stopped = 0; // 1: SIGTERM sent, 2: SIGKILL sent
-    while (open[0] || open[1] || !children[0].ended || !children[1].ended) {
+    auto signal_all = [&](int sig) {
+        for (auto& ch : children)
+            if (!ch.ended) kill(-ch.pid, sig), kill(-ch.pid, SIGCONT);
+    };
+    while (!children[0].ended || !children[1].ended) {
         pollfd fds[2];
         int n = 0, which[2];
         for (int k = 0; k < 2; ++k)
@@ -272,19 +296,30 @@ int run_coupled(const Args& a, const undex::CaseFile& c, const std::filesystem::
         for (auto& ch : children)
             if (reap(ch, false) && ch.status != 0 && !any_failed)
                 any_failed = true, failed_at = std::chrono::steady_clock::now();
+        if (interrupted == 1) {
+            std::cout << "undex: interrupted: stopping both sides" << std::endl;
+            signal_all(SIGTERM);
+            interrupted = 2;
+            if (!any_failed) any_failed = true, failed_at = std::chrono::steady_clock::now(), stopped = 1;
+        }
         // A side that is still running 5 s after the other failed is stopped (SIGTERM, and SIGKILL 3 s later
         // for one that does not react, e.g. a stopped process).
         const auto since = std::chrono::steady_clock::now() - failed_at;
         if (any_failed && stopped < 2 && since > std::chrono::seconds(stopped == 0 ? 5 : 8)) {
             for (auto& ch : children)
-                if (!ch.ended) {
-                    if (stopped == 0)
-                        std::cout << "undex: stopping " << ch.name << " (the other side failed)" << std::endl;
-                    kill(ch.pid, stopped == 0 ? SIGTERM : SIGKILL);
-                    kill(ch.pid, SIGCONT);
-                }
+                if (!ch.ended && stopped == 0)
+                    std::cout << "undex: stopping " << ch.name << " (the other side failed)" << std::endl;
+            signal_all(stopped == 0 ? SIGTERM : SIGKILL);
             ++stopped;
         }
+    }
+    // What is left in the pipes (a process the solver started may still hold one: not waited for).
+    for (int k = 0; k < 2; ++k) {
+        if (!open[k]) continue;
+        pollfd f{children[k].fd, POLLIN, 0};
+        while (poll(&f, 1, 100) > 0 && pump(children[k])) {
+        }
+        close(children[k].fd);
     }
     int code = 0;
     for (const auto& ch : children)

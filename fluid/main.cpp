@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
         std::cerr << usage;
         return 64;
     }
+    undex::install_stop_handler();
     try {
         const auto c = undex::CaseFile::load(path, overrides);
         return undex::fluid::run(c, std::cout, couple);

@@ -69,15 +69,17 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
         link = std::make_unique<coupling::FluidParticipant>(o, "undex-fluid", "0.1.0");
         log << "undex-fluid: waiting for the structure solver on " << link->endpoint() << std::endl;
         const auto iface = link->initialize(1, m.alpha, p.end_time);
+        auto refuse = [&](const std::string& why) { // after the Welcome: the structure is told why
+            link->fail(why);
+            throw coupling::CouplingError(why);
+        };
         if (iface.size() != 1)
-            throw coupling::CouplingError("the structure solver (" + link->peer_solver() + ") has " +
-                                          std::to_string(iface.size()) +
-                                          " interface nodes; a 1D fluid couples to one");
+            refuse("the structure solver (" + link->peer_solver() + ") has " + std::to_string(iface.size()) +
+                   " interface nodes; a 1D fluid couples to one");
         if (std::abs(iface.normal_x[0] - 1) > 1e-9)
-            throw coupling::CouplingError("the structure solver (" + link->peer_solver() +
-                                          ") gives its wet face the normal (" + std::to_string(iface.normal_x[0]) +
-                                          ", " + std::to_string(iface.normal_y[0]) +
-                                          "); the fluid lies at x < x_max, so it must be (1, 0)");
+            refuse("the structure solver (" + link->peer_solver() + ") gives its wet face the normal (" +
+                   std::to_string(iface.normal_x[0]) + ", " + std::to_string(iface.normal_y[0]) +
+                   "); the fluid lies at x < x_max, so it must be (1, 0)");
         x0_I = iface.x[0];
         log << "undex-fluid: coupled to " << link->peer_solver() << std::endl;
     }
@@ -105,13 +107,15 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
         ++next_output;
     try {
         while (solver->time() < p.end_time * (1 - 1e-14)) {
+            if (stop_requested()) return fail("stopped by a signal (SIGINT or SIGTERM)", 4);
             if (solver->steps() >= p.max_steps)
                 return fail("stopped: numerics.max_steps = " + std::to_string(p.max_steps) +
                                 " reached at t = " + format("%.6g", solver->time()) + " s",
                             2);
             const auto wait_start = std::chrono::steady_clock::now();
             if (link && !link->receive_offer(offer))
-                return fail("the structure solver stopped the run at step " + std::to_string(link->step()),
+                return fail("the structure solver stopped the run at step " + std::to_string(link->step()) +
+                                ": " + link->stop_reason(),
                             3);
             const double target = p.output_times[next_output];
             double dt = solver->stable_dt();

@@ -165,8 +165,18 @@ bool writable_directory(const std::string& directory) {
     return false;
 }
 
+void validate_coupling(const CaseFile& cf) {
+    const auto& k = cf.get().coupling();
+    if (!(k.timeout() > 0 && k.timeout() <= 86400))
+        cf.fail("coupling.timeout", "must lie in (0, 86400] s (got " + std::to_string(k.timeout()) + ")");
+    if (!(k.handshake_timeout() > 0 && k.handshake_timeout() <= 86400))
+        cf.fail("coupling.handshake_timeout",
+                "must lie in (0, 86400] s (got " + std::to_string(k.handshake_timeout()) + ")");
+}
+
 void validate(const CaseFile& cf) {
     const cfg::Case& c = cf.get();
+    validate_coupling(cf);
     if (c.geometry() == cfg::GEOMETRY_UNSET) cf.fail("geometry", "geometry is not set");
     const bool two_d = is_2d(c.geometry());
     if (!c.has_domain()) cf.fail("domain", "a fluid needs a domain (x_min, x_max, cells_x)");

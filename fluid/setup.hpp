@@ -34,6 +34,8 @@ struct RunPlan {
 
 // Checks every fluid part of the case; throws CaseError naming the field and line.
 void validate(const CaseFile& c);
+// Checks the case's coupling timeouts (used by both solvers).
+void validate_coupling(const CaseFile& c);
 // A prescribed pressure history p(t) (exponential or table) of a case, checked and as a function; shared by
 // fluid boundaries and structure faces.
 void validate_pressure_history(const CaseFile& c, const config::PressureHistory& h, const std::string& path);

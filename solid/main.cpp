@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
         std::cerr << "usage: undex-solid CASE [--set key=value]... [--couple ENDPOINT]\n";
         return 64;
     }
+    undex::install_stop_handler();
     try {
         const auto c = undex::CaseFile::load(path, overrides);
         return undex::solid::run_structure(c, std::cout, couple);

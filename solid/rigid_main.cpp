@@ -90,6 +90,14 @@ int run(const CaseFile& c, const std::string& couple) {
     out.plate.insert(out.plate.end(), {t, x, v, m.back_pressure});
     try {
         for (long n = 0;; ++n) {
+            if (stop_requested()) {
+                link.fail("stopped by a signal (SIGINT or SIGTERM)");
+                out.write();
+                out.set_status("failed: stopped by a signal (SIGINT or SIGTERM)");
+                std::cerr << "undex-rigid: stopped by a signal; the history up to t = " << t << " s is in "
+                          << out.path() << std::endl;
+                return 4;
+            }
             coupling::Grant g;
             if (!link.exchange({m.dt, {x}, {0.0}, {v}}, g)) break;
             const double h = n == 0 ? 0.5 * g.dt : 0.5 * (g.dt + last_dt);
@@ -140,6 +148,7 @@ int main(int argc, char** argv) {
         std::cerr << usage;
         return 64;
     }
+    undex::install_stop_handler();
     try {
         return run(undex::CaseFile::load(path, overrides), couple);
     } catch (const undex::CaseError& e) {

@@ -372,6 +372,7 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
     size_t next = 0;
     try {
         for (;;) {
+            if (stop_requested()) return fail("stopped by a signal (SIGINT or SIGTERM)", 4);
             double dt = model.dt;
             bool hits = false;
             coupling::Grant g;

@@ -133,6 +133,7 @@ void apply_plate_conditions(const cfg::Structure& st, StructureModel& m) {
 
 RigidPlateModel make_rigid_plate(const CaseFile& cf) {
     const auto& c = cf.get();
+    fluid::validate_coupling(cf);
     const auto& st = c.structure();
     if (!st.has_rigid_plate()) cf.fail("structure.rigid_plate", "the structure is not a rigid plate");
     if (c.geometry() != cfg::PLANAR_1D) cf.fail("geometry", "a rigid plate is a 1D structure: PLANAR_1D");
@@ -165,6 +166,7 @@ RigidPlateModel make_rigid_plate(const CaseFile& cf) {
 
 void check_structure(const CaseFile& cf) {
     const auto& st = cf.get().structure();
+    fluid::validate_coupling(cf);
     if (st.has_command()) {
         if (st.command().find_first_not_of(" \t") == std::string::npos)
             cf.fail("structure.command", "the command is empty");
@@ -183,6 +185,7 @@ void check_structure(const CaseFile& cf) {
 StructureModel make_structure(const CaseFile& cf) {
     const auto& c = cf.get();
     if (!c.has_structure()) cf.fail("structure", "the case has no structure");
+    fluid::validate_coupling(cf);
     const auto& st = c.structure();
     if (st.has_rigid_plate())
         cf.fail("structure.rigid_plate", "a rigid plate is solved by undex-rigid, not undex-solid");

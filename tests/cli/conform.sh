@@ -28,6 +28,6 @@ expect_fail "a solver that ignores the interface condition and the sign" \
     /usr/bin/python3 "$TESTS/coupling/bad_peer.py" --mode wrong-physics --proto-dir "$PYDIR"
 expect_fail "a solver that answers out of turn" "FAIL: keeps to the sequence.*sent Answer of step 3 where Offer of step 3" \
     /usr/bin/python3 "$TESTS/coupling/bad_peer.py" --mode wrong-type --proto-dir "$PYDIR"
-expect_fail "a command that never connects" "FAIL: sends a Hello after connecting" /bin/sleep 30
+expect_fail "a command that never connects" "FAIL: sends a Hello after connecting" /bin/sh -c 'sleep 30'
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -160,6 +160,7 @@ first = subprocess.Popen([os.path.join(BIN, "undex-fluid"), path, "--couple", en
 time.sleep(1.0)
 r = subprocess.run([os.path.join(BIN, "undex-fluid"), path, "--couple", endpoint], capture_output=True, text=True,
                    timeout=30)
+time.sleep(1.5)  # a probe of the path must not end the first run later either
 alive = first.poll() is None
 first.send_signal(signal.SIGTERM)
 first.communicate()
@@ -176,6 +177,31 @@ r = subprocess.run([os.path.join(BIN, "undex"), "run", path, "--endpoint", busy]
 holder.close()
 check(r.returncode != 0 and f"cannot bind endpoint {busy}" in r.stdout,
       "undex run on a tcp port it cannot bind: both sides stop, the cause named", r.stdout[-1500:])
+
+# 5. SIGINT to undex run (Ctrl-C): both sides stop at their next step and write their last good state.
+out, path = make_case("interrupt", "sandwich_shock_1d.case")
+launcher = subprocess.Popen([os.path.join(BIN, "undex"), "run", path], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+deadline = time.monotonic() + 60
+while time.monotonic() < deadline and not (os.path.exists(os.path.join(out, "fluid.log")) and
+                                           "coupled to" in open(os.path.join(out, "fluid.log")).read()):
+    time.sleep(0.2)
+time.sleep(1.0)
+t0 = time.monotonic()
+launcher.send_signal(signal.SIGINT)
+text = launcher.communicate(timeout=60)[0]
+took = time.monotonic() - t0
+st = [status_of(os.path.join(out, f"{side}.h5")) for side in ("fluid", "solid")]
+check(launcher.returncode != 0 and "stopped by a signal" in st[0] and "stopped by a signal" in st[1] and took < 5,
+      f"SIGINT to undex run: both sides stop in {took:.1f} s with their last good state ('{st[0][:45]}...')",
+      text[-1500:])
+
+# 6. Timeouts the coupling cannot use are refused before anything runs.
+for value in ("-1", "0", "inf"):
+    r = subprocess.run([os.path.join(BIN, "undex"), "check", os.path.join(CASES, "taylor_plate_1d.case"), "--set",
+                        f"coupling.timeout={value}"], capture_output=True, text=True)
+    check(r.returncode == 1 and "coupling.timeout: must lie in (0, 86400] s" in r.stderr,
+          f"coupling.timeout = {value} refused by undex check", r.stderr)
 
 print(f"{passed} passed, {len(failures)} failed")
 sys.exit(1 if failures else 0)
