@@ -478,7 +478,9 @@ int options() {
     for (const auto& n : undex::solid::kinematics_names())
         std::cout << "  " << n.first << "  " << n.second << "\n";
     std::cout << "geometry: PLANAR_1D CYLINDRICAL_1D SPHERICAL_1D PLANAR_2D AXISYMMETRIC_2D\n"
-              << "boundary type: TRANSMISSIVE WALL SYMMETRY PRESSURE PERIODIC\n"
+              << "boundary type: TRANSMISSIVE WALL SYMMETRY PRESSURE PERIODIC STRUCTURE (x_max: the "
+                 "structure's wet face)\n"
+              << "structure face type: FREE FIXED PRESSURE FLUID (front: wetted by the fluid)\n"
               << "material models: stiffened_gas { gamma p_inf }, tait { gamma B A rho0 as_stiffened_gas }\n"
               << "the schema with every field and its default: proto/case.proto\n";
     return 0;
