@@ -109,17 +109,21 @@ Channel::~Channel() {
     if (!ipc_path_.empty()) std::filesystem::remove(ipc_path_, ignored);
 }
 
-void Channel::send(Envelope& e) {
-    // A peer known to be gone takes nothing: say so instead of waiting out the send timeout.
+bool Channel::peer_gone() {
     for (zmq::pollitem_t m{monitor_.handle(), 0, ZMQ_POLLIN, 0};
          zmq::poll(&m, 1, std::chrono::milliseconds(0)) > 0 && (m.revents & ZMQ_POLLIN);) {
         const auto [event, fd] = read_event(monitor_);
         on_event(event, fd);
     }
-    if (peer_lost_ && peers_.empty() && !e.has_error())
-        throw CouplingError(peer_ + " closed the connection at step " + std::to_string(e.step()) +
-                            " (before " + body_name(e.body_case()) +
-                            " could be sent): its process ended or was killed");
+    return peer_lost_ && peers_.empty();
+}
+
+void Channel::send(Envelope& e) {
+    // A peer known to be gone takes nothing: say so instead of waiting out the send timeout.
+    const std::string gone = peer_ + " closed the connection at step " + std::to_string(e.step()) +
+                             " (before " + body_name(e.body_case()) +
+                             " could be sent): its process ended or was killed";
+    if (peer_gone() && !e.has_error()) throw CouplingError(gone);
     e.set_protocol(protocol_version);
     zmq::message_t frame(e.ByteSizeLong()); // serialised straight into the frame: no extra copy
     e.SerializeWithCachedSizesToArray(static_cast<std::uint8_t*>(frame.data()));
@@ -133,6 +137,7 @@ void Channel::send(Envelope& e) {
                             std::to_string(e.step()) + ": " + err.what());
     }
     if (e.has_error()) socket_.set(zmq::sockopt::sndtimeo, timeout_ms_);
+    if (!sent && peer_gone()) throw CouplingError(gone);
     if (!sent)
         throw CouplingError("cannot send " + body_name(e.body_case()) + " to " + peer_ + " at step " +
                             std::to_string(e.step()) +
@@ -183,8 +188,8 @@ Envelope Channel::receive(std::int64_t step, Envelope::BodyCase expected) {
             try {
                 return zmq::poll(items, 2, t);
             } catch (const zmq::error_t& err) {
-                throw CouplingError("interrupted" + at + " while waiting for " + body_name(expected) +
-                                    " from " + peer_ + ": " + err.what());
+                throw CouplingError("stopped by a signal (SIGINT or SIGTERM)" + at + " while waiting for " +
+                                    body_name(expected) + " from " + peer_ + ": " + err.what());
             }
         };
         while (poll(std::chrono::milliseconds(0)) == 0 && std::chrono::steady_clock::now() < spin_until)

@@ -52,6 +52,7 @@ class Channel {
     std::vector<int> peers_;  // connections whose handshake succeeded
     bool peer_lost_ = false;  // one of them closed
     void on_event(int event, int fd);
+    bool peer_gone(); // reads the pending connection events first
     std::string endpoint_, peer_, ipc_path_;
     int timeout_ms_;
 };

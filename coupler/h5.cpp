@@ -94,6 +94,22 @@ std::vector<double> read_dataset(hid_t loc, const std::string& name) {
     return v;
 }
 
+void write_table(hid_t file, const std::string& group, const std::vector<std::string>& columns,
+                 const std::vector<double>& rows) {
+    if (H5Lexists(file, group.c_str(), H5P_DEFAULT) <= 0)
+        H5Gclose(H5Gcreate2(file, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+    const hid_t g = H5Gopen2(file, group.c_str(), H5P_DEFAULT);
+    if (g < 0) throw std::runtime_error("cannot open group " + group);
+    const size_t width = columns.size(), n = rows.size() / width;
+    std::vector<double> column(n);
+    for (size_t k = 0; k < width; ++k) {
+        for (size_t r = 0; r < n; ++r)
+            column[r] = rows[r * width + k];
+        write_dataset(g, columns[k].c_str(), {n}, column.data());
+    }
+    H5Gclose(g);
+}
+
 hid_t create(const std::string& path) {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);

@@ -24,6 +24,9 @@ std::string read_attr_string(hid_t obj, const char* name);
 double read_attr_double(hid_t obj, const char* name);
 std::vector<double> read_dataset(hid_t loc, const std::string& name);
 hid_t open_read(const std::string& path);
+// A table of interleaved rows as one dataset per column in group (created when missing).
+void write_table(hid_t file, const std::string& group, const std::vector<std::string>& columns,
+                 const std::vector<double>& rows);
 // Creates (truncates) an output file without HDF5's file lock, so that Python and ParaView can read what was
 // flushed while the run goes on; a negative id on failure.
 hid_t create(const std::string& path);

@@ -43,6 +43,24 @@ void check_step(double dt, const std::string& peer, const std::string& what, std
     }
 }
 
+// An Error to the peer, best effort: a failing side must not fail again while saying why.
+void send_error(Channel& c, std::int64_t step, const std::string& message) noexcept {
+    try {
+        Envelope e;
+        e.set_step(step);
+        e.mutable_error()->set_message(message);
+        c.send(e);
+    } catch (...) {
+    }
+}
+
+void send_heartbeat(Channel& c, std::int64_t step) {
+    Envelope e;
+    e.set_step(step);
+    e.mutable_heartbeat();
+    c.send(e);
+}
+
 } // namespace
 
 // ---- fluid side ----------------------------------------------------------------------------------------
@@ -180,20 +198,11 @@ void FluidParticipant::finalize(const std::string& reason) {
 }
 
 void FluidParticipant::fail(const std::string& message) noexcept {
-    try {
-        Envelope e;
-        e.set_step(step_);
-        e.mutable_error()->set_message(message);
-        channel_->send(e);
-    } catch (...) {
-    }
+    send_error(*channel_, step_, message);
 }
 
 void FluidParticipant::heartbeat() {
-    Envelope e;
-    e.set_step(step_);
-    e.mutable_heartbeat();
-    channel_->send(e);
+    send_heartbeat(*channel_, step_);
 }
 
 // ---- structure side ------------------------------------------------------------------------------------
@@ -280,20 +289,11 @@ void StructureParticipant::answer(const Answer& a) {
 }
 
 void StructureParticipant::fail(const std::string& message) noexcept {
-    try {
-        Envelope e;
-        e.set_step(step_);
-        e.mutable_error()->set_message(message);
-        channel_->send(e);
-    } catch (...) {
-    }
+    send_error(*channel_, step_, message);
 }
 
 void StructureParticipant::heartbeat() {
-    Envelope e;
-    e.set_step(step_);
-    e.mutable_heartbeat();
-    channel_->send(e);
+    send_heartbeat(*channel_, step_);
 }
 
 } // namespace undex::coupling

@@ -125,17 +125,7 @@ void Output::write_gauges() {
 
 void Output::write_table(const std::string& group, const std::vector<std::string>& columns,
                          const std::vector<double>& data) {
-    if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) <= 0)
-        H5Gclose(H5Gcreate2(file_, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-    hid_t g = H5Gopen2(file_, group.c_str(), H5P_DEFAULT);
-    const size_t width = columns.size(), rows = data.size() / width;
-    std::vector<double> column(rows);
-    for (size_t col = 0; col < width; ++col) {
-        for (size_t r = 0; r < rows; ++r)
-            column[r] = data[r * width + col];
-        write_dataset(g, columns[col].c_str(), {hsize_t(rows)}, column.data());
-    }
-    H5Gclose(g);
+    h5::write_table(file_, group, columns, data);
     H5Fflush(file_, H5F_SCOPE_GLOBAL);
 }
 

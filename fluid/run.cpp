@@ -177,7 +177,7 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
         }
         if (link) link->finalize("end time reached");
     } catch (const coupling::CouplingError& e) {
-        return fail(std::string("coupling: ") + e.what(), 3);
+        return fail(std::string("coupling: ") + e.what(), stop_requested() ? 4 : 3);
     }
     out.write_gauges();
     if (coupled) out.write_table("interface", history_columns, history);

@@ -145,19 +145,19 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
                 phi_(i, j) = phi[static_cast<long>(j) * mesh_.nx + i];
     }
 
-    Primitive evaluate(double x, double y) const override {
+    // Whether the point (x, y) lies in the minus fluid (by φ of its cell).
+    bool in_minus(double x, double y) const {
         int i = static_cast<int>(std::floor((x - mesh_.x_min) / mesh_.dx));
         int j = D == 2 ? static_cast<int>(std::floor((y - mesh_.y_min) / mesh_.dy)) : 0;
         i = std::clamp(i, 0, mesh_.nx - 1);
         j = std::clamp(j, 0, mesh_.ny - 1);
-        return phi_(i, j) < 0 ? minus_.evaluate(x, y) : plus_.evaluate(x, y);
+        return phi_(i, j) < 0;
+    }
+    Primitive evaluate(double x, double y) const override {
+        return in_minus(x, y) ? minus_.evaluate(x, y) : plus_.evaluate(x, y);
     }
     double sound_speed(double x, double y) const override {
-        int i = static_cast<int>(std::floor((x - mesh_.x_min) / mesh_.dx));
-        int j = D == 2 ? static_cast<int>(std::floor((y - mesh_.y_min) / mesh_.dy)) : 0;
-        i = std::clamp(i, 0, mesh_.nx - 1);
-        j = std::clamp(j, 0, mesh_.ny - 1);
-        return phi_(i, j) < 0 ? minus_.sound_speed(x, y) : plus_.sound_speed(x, y);
+        return in_minus(x, y) ? minus_.sound_speed(x, y) : plus_.sound_speed(x, y);
     }
     double pressure_floor() const override {
         return std::max(minus_.pressure_floor(), plus_.pressure_floor());

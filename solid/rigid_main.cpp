@@ -12,9 +12,9 @@
 #include "interface_node.hpp"
 #include "participant.hpp"
 #include "setup.hpp"
+#include "solver_main.hpp"
 #include "structure_setup.hpp"
 
-#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -36,16 +36,14 @@ class RigidOutput {
         h5::write_attr_string(file_, "status", "running");
         hid_t g = H5Gcreate2(file_, "gauges", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
         h5::write_attr_string(g, "columns", "t,u,v,p_I");
-        H5Gclose(H5Gcreate2(g, "plate", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
         H5Gclose(g);
-        H5Gclose(H5Gcreate2(file_, "coupling", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
         H5Fflush(file_, H5F_SCOPE_GLOBAL);
     }
     ~RigidOutput() { H5Fclose(file_); }
     std::vector<double> plate, coupling; // rows t, u, v, p_I and t, dt, p_I, u_I
     void write() {
-        table("gauges/plate", {"t", "u", "v", "p_I"}, plate);
-        table("coupling", {"t", "dt", "p_I", "u_I"}, coupling);
+        h5::write_table(file_, "gauges/plate", {"t", "u", "v", "p_I"}, plate);
+        h5::write_table(file_, "coupling", {"t", "dt", "p_I", "u_I"}, coupling);
         H5Fflush(file_, H5F_SCOPE_GLOBAL);
     }
     void set_status(const std::string& s) {
@@ -57,17 +55,6 @@ class RigidOutput {
   private:
     std::string path_;
     hid_t file_ = -1;
-    void table(const char* group, const std::vector<const char*>& names, const std::vector<double>& rows) {
-        hid_t g = H5Gopen2(file_, group, H5P_DEFAULT);
-        const size_t w = names.size(), n = rows.size() / w;
-        std::vector<double> col(n);
-        for (size_t k = 0; k < w; ++k) {
-            for (size_t r = 0; r < n; ++r)
-                col[r] = rows[r * w + k];
-            h5::write_dataset(g, names[k], {n}, col.data());
-        }
-        H5Gclose(g);
-    }
 };
 
 int run(const CaseFile& c, const std::string& couple) {
@@ -119,7 +106,7 @@ int run(const CaseFile& c, const std::string& couple) {
         out.set_status(std::string("failed: coupling: ") + e.what());
         std::cerr << "undex-rigid: error: coupling: " << e.what()
                   << "\nundex-rigid: the history up to t = " << t << " s is in " << out.path() << std::endl;
-        return 3;
+        return stop_requested() ? 4 : 3;
     }
     out.write();
     out.set_status("complete");
@@ -130,35 +117,5 @@ int run(const CaseFile& c, const std::string& couple) {
 } // namespace
 
 int main(int argc, char** argv) {
-    const char* usage = "usage: undex-rigid CASE [--set key=value]... --couple ENDPOINT\n";
-    std::string path, couple;
-    std::vector<std::string> overrides;
-    for (int k = 1; k < argc; ++k) {
-        if (std::strcmp(argv[k], "--set") == 0 && k + 1 < argc)
-            overrides.push_back(argv[++k]);
-        else if (std::strcmp(argv[k], "--couple") == 0 && k + 1 < argc)
-            couple = argv[++k];
-        else if (argv[k][0] == '-') {
-            std::cerr << usage;
-            return 64;
-        } else
-            path = argv[k];
-    }
-    if (path.empty()) {
-        std::cerr << usage;
-        return 64;
-    }
-    undex::install_stop_handler();
-    try {
-        return run(undex::CaseFile::load(path, overrides), couple);
-    } catch (const undex::CaseError& e) {
-        std::cerr << "undex-rigid: error: " << e.what() << "\n";
-        return 1;
-    } catch (const undex::coupling::CouplingError& e) {
-        std::cerr << "undex-rigid: error: coupling: " << e.what() << "\n";
-        return 3;
-    } catch (const std::exception& e) {
-        std::cerr << "undex-rigid: error: " << e.what() << "\n";
-        return 1;
-    }
+    return undex::solver_main(argc, argv, "undex-rigid", run);
 }

@@ -187,23 +187,18 @@ class StructureOutput {
         if (m_.plate) write_xdmf();
     }
     void write_tables() {
-        write_table("energies",
-                    {"t", "kinetic", "elastic", "plastic", "hourglass", "external", "balance_error"},
-                    energies_);
+        h5::write_table(file_, "energies",
+                        {"t", "kinetic", "elastic", "plastic", "hourglass", "external", "balance_error"},
+                        energies_);
         for (const auto& gauge : gauges_) {
-            const std::string group = "gauges/" + gauge.name;
-            if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) <= 0)
-                H5Gclose(H5Gcreate2(file_, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-            write_table(group.c_str(), gauge_columns(), gauge.series);
+            h5::write_table(file_, "gauges/" + gauge.name, gauge_columns(), gauge.series);
         }
         H5Fflush(file_, H5F_SCOPE_GLOBAL);
     }
     // A table of one dataset per column in group.
     void write_group_table(const std::string& group, const std::vector<std::string>& columns,
                            const std::vector<double>& data) {
-        if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) <= 0)
-            H5Gclose(H5Gcreate2(file_, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-        write_table(group.c_str(), columns, data);
+        h5::write_table(file_, group, columns, data);
         H5Fflush(file_, H5F_SCOPE_GLOBAL);
     }
     void set_status(const std::string& s) {
@@ -241,19 +236,6 @@ class StructureOutput {
             return {"t",   "u_x",       "u_y",       "v_x",       "v_y",       "a_x",
                     "a_y", "stress_xx", "stress_yy", "stress_zz", "stress_xy", "peeq"};
         return {"t", "u", "v", "a", "stress_xx", "peeq"};
-    }
-    // Interleaved rows into one dataset per column of a group.
-    void write_table(const char* group, const std::vector<std::string>& names,
-                     const std::vector<double>& data) {
-        const size_t width = names.size(), rows = data.size() / width;
-        hid_t g = H5Gopen2(file_, group, H5P_DEFAULT);
-        std::vector<double> col(rows);
-        for (size_t k = 0; k < width; ++k) {
-            for (size_t r = 0; r < rows; ++r)
-                col[r] = data[r * width + k];
-            h5::write_dataset(g, names[k].c_str(), {rows}, col.data());
-        }
-        H5Gclose(g);
     }
     // solid.xmf: the plate's snapshots as a temporal collection of quadrilateral grids on the current
     // positions, for ParaView.
@@ -425,7 +407,7 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
             }
         }
     } catch (const coupling::CouplingError& e) {
-        return fail(std::string("coupling: ") + e.what(), 3);
+        return fail(std::string("coupling: ") + e.what(), stop_requested() ? 4 : 3);
     }
     out.write_tables();
     if (link) out.write_group_table("coupling", history_columns, history);
