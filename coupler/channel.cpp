@@ -1,4 +1,4 @@
-#include "channel.hpp"
+#include "coupler/channel.hpp"
 
 #include <sys/socket.h>
 #include <sys/un.h>

@@ -2,9 +2,9 @@
 // It plays the fluid side: for each check it binds a fresh ipc:// endpoint, starts COMMAND with
 // " --couple ENDPOINT" appended (its output goes to a log file), and watches what arrives. Each check prints
 // "ok:" or "FAIL:" with what was wrong; the exit status is the number of failed checks (0: conforming).
-#include "conform.hpp"
+#include "coupler/conform.hpp"
 
-#include "channel.hpp"
+#include "coupler/channel.hpp"
 
 #include <signal.h>
 #include <sys/wait.h>

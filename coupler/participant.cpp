@@ -1,6 +1,6 @@
-#include "participant.hpp"
+#include "coupler/participant.hpp"
 
-#include "channel.hpp"
+#include "coupler/channel.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -1,9 +1,9 @@
 // Boundary conditions by ghost cells: each ghost cell holds a full polynomial, so that face fluxes and the
 // limiter treat boundary cells like interior ones. Sides: 0 x_min, 1 x_max, 2 y_min, 3 y_max.
 #pragma once
-#include "basis.hpp"
-#include "mesh.hpp"
-#include "solver.hpp"
+#include "fluid/basis.hpp"
+#include "fluid/mesh.hpp"
+#include "fluid/solver.hpp"
 
 #include <array>
 #include <cmath>

@@ -4,7 +4,7 @@
 // of cavitation.hpp; between that density and the liquid density at p_cav (a relative width of about α0)
 // the pressure stays at p_cav and the mixture sound speed at p_cav is used, so p(ρ) is continuous.
 #pragma once
-#include "cavitation.hpp"
+#include "fluid/cavitation.hpp"
 
 #include <cmath>
 

@@ -3,7 +3,7 @@
 // Peng, SISC 21, 2000) with TVD-RK3 (Shu–Osher); reinitialisation follows Sussman, Smereka and Osher
 // (JCP 114, 1994); constant extrapolation across the interface is first-order upwind (Aslam, JCP 193, 2004).
 #pragma once
-#include "mesh.hpp"
+#include "fluid/mesh.hpp"
 
 #include <algorithm>
 #include <array>

@@ -3,7 +3,7 @@
 // its face neighbours' polynomials, each shifted to the cell's average, with nonlinear weights from the
 // smoothness indicators β = Σ_{1≤|α|≤k} ∫_K |K|^{2|α|−1} (D^α p)² (scale-free on the reference cell).
 #pragma once
-#include "basis.hpp"
+#include "fluid/basis.hpp"
 
 namespace undex::fluid {
 

@@ -1,8 +1,8 @@
 // undex-fluid CASE [--set key=value]... [--couple ENDPOINT]: runs the fluid solver on a case; a case with a
 // structure couples to a structure solver through ENDPOINT (undex run does this).
-#include "run.hpp"
-#include "solver.hpp"
-#include "solver_main.hpp"
+#include "fluid/run.hpp"
+#include "fluid/solver.hpp"
+#include "base/solver_main.hpp"
 
 #include <iostream>
 #include <string>

@@ -1,6 +1,6 @@
-#include "output.hpp"
+#include "fluid/output.hpp"
 
-#include "h5.hpp"
+#include "base/h5.hpp"
 
 #include <hdf5.h>
 
@@ -167,33 +167,6 @@ void Output::write_xdmf() const {
     std::filesystem::rename(tmp, path);
 }
 
-StoredRun read_run(const std::string& h5_path) {
-    hid_t f = open_read(h5_path);
-    StoredRun r;
-    r.case_text = read_attr_string(f, "case");
-    hid_t fields = H5Gopen2(f, "fields", H5P_DEFAULT);
-    H5G_info_t info;
-    H5Gget_info(fields, &info);
-    for (hsize_t k = 0; k < info.nlinks; ++k) {
-        char name[64];
-        H5Lget_name_by_idx(fields, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
-        hid_t g = H5Gopen2(fields, name, H5P_DEFAULT);
-        r.groups.push_back(std::string("fields/") + name);
-        r.times.push_back(read_attr_double(g, "time"));
-        H5Gclose(g);
-    }
-    H5Gclose(fields);
-    hid_t gauges = H5Gopen2(f, "gauges", H5P_DEFAULT);
-    H5Gget_info(gauges, &info);
-    for (hsize_t k = 0; k < info.nlinks; ++k) {
-        char name[256];
-        H5Lget_name_by_idx(gauges, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
-        r.gauge_names.push_back(name);
-    }
-    H5Gclose(gauges);
-    H5Fclose(f);
-    return r;
-}
 
 std::vector<double> read_coefficients(const std::string& h5_path, const std::string& group) {
     hid_t f = open_read(h5_path);
@@ -211,14 +184,5 @@ std::vector<double> read_level_set(const std::string& h5_path, const std::string
     return phi;
 }
 
-std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name,
-                                            const std::vector<std::string>& columns) {
-    hid_t f = open_read(h5_path);
-    std::vector<std::vector<double>> cols;
-    for (const auto& c : columns)
-        cols.push_back(read_dataset(f, "gauges/" + name + "/" + c));
-    H5Fclose(f);
-    return cols;
-}
 
 } // namespace undex::fluid

@@ -8,8 +8,8 @@
 //   /gauges/NAME     t, rho, u, v, p: time series at the gauge point
 // The file is flushed after every write, so a run that stops leaves every completed output readable.
 #pragma once
-#include "setup.hpp"
-#include "solver.hpp"
+#include "base/run_plan.hpp"
+#include "fluid/solver.hpp"
 
 #include <map>
 #include <string>
@@ -51,20 +51,9 @@ class Output {
     bool cavitation_ = false, level_set_ = false;
 };
 
-// Reading back (for `undex sample` and `undex gauges`).
-struct StoredRun {
-    std::string case_text;
-    std::vector<double> times;
-    std::vector<std::string> groups;
-    std::vector<std::string> gauge_names;
-};
-StoredRun read_run(const std::string& h5_path);
+// Reading back (for `undex-fluid --sample`; base/h5.hpp reads the rest).
 std::vector<double> read_coefficients(const std::string& h5_path, const std::string& group);
 // Level set φ of a two-fluid run (empty for one fluid).
 std::vector<double> read_level_set(const std::string& h5_path, const std::string& group);
-// The columns of one gauge (fluid: t, rho, u, v, p; structure: t, u, v, a, stress_xx, peeq).
-std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name,
-                                            const std::vector<std::string>& columns = {"t", "rho", "u", "v",
-                                                                                       "p"});
 
 } // namespace undex::fluid

@@ -1,10 +1,12 @@
-#include "run.hpp"
+#include "fluid/run.hpp"
 
-#include "case.pb.h"
-#include "case_file.hpp"
-#include "output.hpp"
-#include "participant.hpp"
-#include "setup.hpp"
+#include "proto/case.pb.h"
+#include "base/case_file.hpp"
+#include "fluid/output.hpp"
+#include "coupler/participant.hpp"
+#include "base/run_plan.hpp"
+#include "base/signals.hpp"
+#include "fluid/setup.hpp"
 
 #include <chrono>
 #include <cmath>

@@ -2,13 +2,13 @@
 // geometric source, TVD-RK3 (Shu–Osher), and after every stage the troubled-cell indicator, the simple
 // WENO limiter in characteristic variables and the Zhang–Shu positivity scaling.
 #pragma once
-#include "basis.hpp"
-#include "boundary.hpp"
-#include "characteristic.hpp"
-#include "flux_hllc.hpp"
-#include "indicator_tvb.hpp"
-#include "limiter_weno.hpp"
-#include "solver.hpp"
+#include "fluid/basis.hpp"
+#include "fluid/boundary.hpp"
+#include "fluid/characteristic.hpp"
+#include "fluid/flux_hllc.hpp"
+#include "fluid/indicator_tvb.hpp"
+#include "fluid/limiter_weno.hpp"
+#include "fluid/solver.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // The fluid solver's interface. One implementation per (dimension, degree, equation of state), chosen
 // once at set-up (setup.cpp); hot loops inside see concrete types only.
 #pragma once
-#include "mesh.hpp"
+#include "fluid/mesh.hpp"
 
 #include <array>
 #include <functional>

@@ -11,9 +11,9 @@
 //     the entropy of their own fluid, extrapolated from the interface.
 // The level set moves with the extension of the interface velocity u*·n and is reinitialised periodically.
 #pragma once
-#include "interface_riemann.hpp"
-#include "level_set.hpp"
-#include "scheme.hpp"
+#include "fluid/interface_riemann.hpp"
+#include "fluid/level_set.hpp"
+#include "fluid/scheme.hpp"
 
 #include <array>
 #include <cmath>

@@ -8,8 +8,8 @@
 // Strain increments are logarithmic: Δε = Δl / l over the mean length of the step, so large foam
 // compressions are measured correctly.
 #pragma once
-#include "interface_node.hpp"
-#include "material.hpp"
+#include "solid/interface_node.hpp"
+#include "solid/material.hpp"
 
 #include <cmath>
 #include <functional>

@@ -1,7 +1,7 @@
 // undex-solid CASE [--set key=value]... [--couple ENDPOINT]: runs the structure solver on a case; a structure
 // wetted by the case's fluid couples to the fluid solver bound at ENDPOINT (undex run does this).
-#include "run_structure.hpp"
-#include "solver_main.hpp"
+#include "solid/run_structure.hpp"
+#include "base/solver_main.hpp"
 
 #include <iostream>
 #include <string>

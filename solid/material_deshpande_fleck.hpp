@@ -6,7 +6,7 @@
 // σ_m = σ_m^tr / (1 + Kα²Δ/(σ̂β)) for an increment Δ of ε̂_p; Δ is the root of
 // σ̂(σ_e, σ_m) = σ_c(ε̂_p + Δ) + η Δ/dt, unique because the left side falls and the right side rises with Δ.
 #pragma once
-#include "material.hpp"
+#include "solid/material.hpp"
 
 #include <algorithm>
 #include <vector>

@@ -1,6 +1,6 @@
 // Linear isotropic elasticity (physics.md §6).
 #pragma once
-#include "material.hpp"
+#include "solid/material.hpp"
 
 namespace undex::solid {
 

@@ -4,7 +4,7 @@
 //   while the compressive strain −ε exceeds the densification strain ε_D the foam is locked: no plastic
 //   flow, and σ = E(−ε_D − ε_p) + E_lock (ε + ε_D), continuous with the unlocked branch at ε = −ε_D.
 #pragma once
-#include "material.hpp"
+#include "solid/material.hpp"
 
 namespace undex::solid {
 

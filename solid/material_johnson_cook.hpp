@@ -3,7 +3,7 @@
 // isothermal (T* = 0, a [choice] of physics.md). Below the reference rate the rate term is 1, so that the
 // flow stress never falls under the quasi-static curve.
 #pragma once
-#include "material.hpp"
+#include "solid/material.hpp"
 
 #include <algorithm>
 

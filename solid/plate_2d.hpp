@@ -15,7 +15,7 @@
 // the bending modulus E' = E / (1 − ν²) of the elastic constants, times r_c in axisymmetry, times a
 // user factor (1 by default). The hourglass energy is ½ K q², part of the energy balance.
 #pragma once
-#include "material.hpp"
+#include "solid/material.hpp"
 
 #include <algorithm>
 #include <array>

@@ -6,14 +6,15 @@
 // equation of motion (interface_node.hpp); the dashpot uses the velocity of the last half step.
 // Output <dir>/solid.h5: attributes case, status; /gauges/plate with t, u, v, p_I (columns attribute of
 // /gauges), so `undex gauges DIR/solid.h5` prints it; /coupling with t, dt, p_I, u_I of every step.
-#include "case.pb.h"
-#include "case_file.hpp"
-#include "h5.hpp"
-#include "interface_node.hpp"
-#include "participant.hpp"
-#include "setup.hpp"
-#include "solver_main.hpp"
-#include "structure_setup.hpp"
+#include "proto/case.pb.h"
+#include "base/case_file.hpp"
+#include "base/h5.hpp"
+#include "solid/interface_node.hpp"
+#include "coupler/participant.hpp"
+#include "base/run_plan.hpp"
+#include "base/signals.hpp"
+#include "base/solver_main.hpp"
+#include "solid/structure_setup.hpp"
 
 #include <filesystem>
 #include <iostream>
@@ -61,7 +62,7 @@ int run(const CaseFile& c, const std::string& couple) {
     const solid::RigidPlateModel m = solid::make_rigid_plate(c);
     if (couple.empty())
         c.fail("structure.rigid_plate", "a rigid plate is driven by a fluid: run the case with `undex run`");
-    const auto plan = fluid::plan(c);
+    const auto plan = undex::plan(c);
     std::cout << "undex-rigid: " << c.path() << ": rigid plate, " << m.mass_per_area << " kg/m², output "
               << plan.directory << "/solid.h5" << std::endl;
     coupling::Options o;

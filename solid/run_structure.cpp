@@ -1,11 +1,12 @@
-#include "run_structure.hpp"
+#include "solid/run_structure.hpp"
 
-#include "case.pb.h"
-#include "case_file.hpp"
-#include "h5.hpp"
-#include "participant.hpp"
-#include "setup.hpp"
-#include "structure_setup.hpp"
+#include "proto/case.pb.h"
+#include "base/case_file.hpp"
+#include "base/h5.hpp"
+#include "coupler/participant.hpp"
+#include "base/run_plan.hpp"
+#include "base/signals.hpp"
+#include "solid/structure_setup.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -295,7 +296,7 @@ struct Stepper {
 
 int run_structure(const CaseFile& c, std::ostream& log, const std::string& couple) {
     StructureModel model = make_structure(c); // checks the whole structure part first
-    const auto p = fluid::plan(c);
+    const auto p = plan(c);
     if (model.wet && couple.empty())
         c.fail("structure.front",
                "the structure is coupled to the case's fluid: run it with `undex run`, or give "

@@ -1,12 +1,12 @@
-#include "structure_setup.hpp"
+#include "solid/structure_setup.hpp"
 
-#include "case.pb.h"
-#include "case_file.hpp"
-#include "material_deshpande_fleck.hpp"
-#include "material_elastic.hpp"
-#include "material_foam_1d.hpp"
-#include "material_johnson_cook.hpp"
-#include "setup.hpp"
+#include "proto/case.pb.h"
+#include "base/case_file.hpp"
+#include "solid/material_deshpande_fleck.hpp"
+#include "solid/material_elastic.hpp"
+#include "solid/material_foam_1d.hpp"
+#include "solid/material_johnson_cook.hpp"
+#include "base/run_plan.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -26,13 +26,6 @@ const std::vector<std::pair<const char*, const char*>>& kinematics_names() {
     return names;
 }
 
-bool has_fluid(const CaseFile& cf) {
-    const auto& c = cf.get();
-    return c.regions_size() > 0 || c.has_domain() || c.has_boundaries() || c.materials_size() > 0;
-}
-bool has_structure(const CaseFile& cf) {
-    return cf.get().has_structure();
-}
 
 namespace {
 
@@ -85,7 +78,7 @@ void check_face(const CaseFile& cf, const cfg::SolidFace& f, const std::string& 
         cf.fail(path + ".type", "with a fluid in the case the front face is the wet one: FLUID");
     if (f.type() == cfg::SolidFace::PRESSURE) {
         if (!f.has_pressure()) cf.fail(path, "a PRESSURE face needs a 'pressure' history");
-        fluid::validate_pressure_history(cf, f.pressure(), path + ".pressure");
+        undex::validate_pressure_history(cf, f.pressure(), path + ".pressure");
     } else if (f.has_pressure()) {
         cf.fail(path + ".pressure", "a pressure history is only used by PRESSURE faces");
     }
@@ -116,7 +109,7 @@ void apply_plate_conditions(const cfg::Structure& st, StructureModel& m) {
             for (int i = 0; i < lp.nx; ++i)
                 edges.push_back(side == 0 ? std::array<int, 2>{lp.node(i, j), lp.node(i + 1, j)}
                                           : std::array<int, 2>{lp.node(i + 1, j), lp.node(i, j)});
-            plate.add_pressure(edges, fluid::pressure_history(f.pressure()));
+            plate.add_pressure(edges, undex::pressure_history(f.pressure()));
         }
     }
     for (int side = 0; side < 2; ++side) {
@@ -133,7 +126,7 @@ void apply_plate_conditions(const cfg::Structure& st, StructureModel& m) {
 
 RigidPlateModel make_rigid_plate(const CaseFile& cf) {
     const auto& c = cf.get();
-    fluid::validate_coupling(cf);
+    undex::validate_coupling(cf);
     const auto& st = c.structure();
     if (!st.has_rigid_plate()) cf.fail("structure.rigid_plate", "the structure is not a rigid plate");
     if (c.geometry() != cfg::PLANAR_1D) cf.fail("geometry", "a rigid plate is a 1D structure: PLANAR_1D");
@@ -166,7 +159,7 @@ RigidPlateModel make_rigid_plate(const CaseFile& cf) {
 
 void check_structure(const CaseFile& cf) {
     const auto& st = cf.get().structure();
-    fluid::validate_coupling(cf);
+    undex::validate_coupling(cf);
     if (st.has_command()) {
         if (st.command().find_first_not_of(" \t") == std::string::npos)
             cf.fail("structure.command", "the command is empty");
@@ -185,7 +178,7 @@ void check_structure(const CaseFile& cf) {
 StructureModel make_structure(const CaseFile& cf) {
     const auto& c = cf.get();
     if (!c.has_structure()) cf.fail("structure", "the case has no structure");
-    fluid::validate_coupling(cf);
+    undex::validate_coupling(cf);
     const auto& st = c.structure();
     if (st.has_rigid_plate())
         cf.fail("structure.rigid_plate", "a rigid plate is solved by undex-rigid, not undex-solid");
@@ -257,8 +250,8 @@ StructureModel make_structure(const CaseFile& cf) {
     if (!(st.safety() > 0 && st.safety() <= 1))
         cf.fail("structure.safety", "safety factor must lie in (0, 1]");
     if (!(c.end_time() > 0)) cf.fail("end_time", "must be positive");
-    const auto plan = fluid::plan(cf);
-    if (!fluid::writable_directory(plan.directory))
+    const auto plan = undex::plan(cf);
+    if (!undex::writable_directory(plan.directory))
         cf.fail("output.directory", "cannot write the output directory '" + plan.directory + "'");
 
     if (!(st.hourglass() >= 0)) cf.fail("structure.hourglass", "hourglass factor must be >= 0");
@@ -333,7 +326,7 @@ StructureModel make_structure(const CaseFile& cf) {
             const auto& f = side == 0 ? st.front() : st.back();
             if (f.type() == cfg::SolidFace::FIXED) model.column->set_face(side, Face1D::Fixed);
             if (f.type() == cfg::SolidFace::PRESSURE)
-                model.column->set_pressure(side, fluid::pressure_history(f.pressure()));
+                model.column->set_pressure(side, undex::pressure_history(f.pressure()));
         }
         stable = model.column->stable_dt();
         model.wet = st.front().type() == cfg::SolidFace::FLUID;

@@ -1,7 +1,7 @@
 // From a case file to a structure model: the whole structure part of the case is checked first.
 #pragma once
-#include "column_1d.hpp"
-#include "plate_2d.hpp"
+#include "solid/column_1d.hpp"
+#include "solid/plate_2d.hpp"
 
 #include <memory>
 #include <utility>
@@ -12,10 +12,6 @@ class CaseFile;
 }
 
 namespace undex::solid {
-
-// Whether the case holds a fluid (regions, domain or fluid materials) and whether it holds a structure.
-bool has_fluid(const CaseFile& c);
-bool has_structure(const CaseFile& c);
 
 // The structure of a case: a 1D column (PLANAR_1D) or a 2D layered plate (PLANAR_2D, AXISYMMETRIC_2D).
 struct StructureModel {

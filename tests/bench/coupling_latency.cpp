@@ -12,7 +12,7 @@
 //   --role both (the default) forks: the child runs the structure side, the parent the fluid side. fluid or
 //   structure runs one side only, for two processes started by hand (the fluid prints what it bound).
 // Exits with status 1 and a message on any coupling error or bad argument.
-#include "participant.hpp"
+#include "coupler/participant.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>

@@ -2,7 +2,7 @@
 // a handshake round trip, and the failures that must end a run with a clear message naming the peer, the
 // step and the cause — a silent peer (timeout), garbage bytes, another protocol version, a message out of
 // order, an error reported by the peer, an endpoint already in use.
-#include "channel.hpp"
+#include "coupler/channel.hpp"
 
 #include <gtest/gtest.h>
 

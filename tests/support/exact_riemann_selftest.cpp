@@ -5,7 +5,7 @@
 // References: E. F. Toro, "Riemann Solvers and Numerical Methods for Fluid Dynamics", 3rd ed., Table 4.3
 // (exact star states of tests 1-4 of Table 4.1, gamma = 1.4). Everything else is checked through conservation
 // laws, symmetries, exact invariances, and limits derived here independently of the header's formulas.
-#include "exact_riemann.hpp"
+#include "tests/support/exact_riemann.hpp"
 
 #include <cmath>
 #include <cstdio>

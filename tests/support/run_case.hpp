@@ -1,8 +1,8 @@
 // Test helpers: build a fluid solver from case text and advance it to its end time without output.
 #pragma once
-#include "case_file.hpp"
-#include "setup.hpp"
-#include "solver.hpp"
+#include "base/case_file.hpp"
+#include "fluid/setup.hpp"
+#include "fluid/solver.hpp"
 
 #include <algorithm>
 #include <chrono>

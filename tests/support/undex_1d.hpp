@@ -7,9 +7,9 @@
 //     pressure drop; the interface is the zero of the level set (linear between cell centres) against the
 //     exact contact x0 + u* t.
 #pragma once
-#include "case_file.hpp"
-#include "exact_riemann.hpp"
-#include "run_case.hpp"
+#include "base/case_file.hpp"
+#include "tests/support/exact_riemann.hpp"
+#include "tests/support/run_case.hpp"
 
 #include <cmath>
 #include <string>

@@ -10,8 +10,8 @@
 //                the boundary ahead of it, if that comes before the case's end time (for sweeps of the states);
 //   --bins N     also prints, to standard error, the share of L1(p)/p* from each of N equal bins of the domain;
 //   --exact CSV  writes the exact solution at the end time (x,rho,u,p, 4000 points) and stops.
-#include "case.pb.h"
-#include "undex_1d.hpp"
+#include "proto/case.pb.h"
+#include "tests/support/undex_1d.hpp"
 
 #include <cstdio>
 #include <iostream>

@@ -1,12 +1,12 @@
 // Unit tests of the fluid building blocks: basis, eigenvectors, equations of state, flux, indicator.
-#include "basis.hpp"
-#include "cavitation.hpp"
-#include "characteristic.hpp"
-#include "eos_stiffened_gas.hpp"
-#include "eos_tait.hpp"
-#include "flux_hllc.hpp"
-#include "indicator_tvb.hpp"
-#include "limiter_weno.hpp"
+#include "fluid/basis.hpp"
+#include "fluid/cavitation.hpp"
+#include "fluid/characteristic.hpp"
+#include "fluid/eos_stiffened_gas.hpp"
+#include "fluid/eos_tait.hpp"
+#include "fluid/flux_hllc.hpp"
+#include "fluid/indicator_tvb.hpp"
+#include "fluid/limiter_weno.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Unit tests of the level-set function (physics.md §4): WENO5 advection, reinitialisation, constant
 // extrapolation across the interface and the smoothed-Heaviside volume.
-#include "level_set.hpp"
+#include "fluid/level_set.hpp"
 
 #include <gtest/gtest.h>
 

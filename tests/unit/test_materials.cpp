@@ -1,9 +1,9 @@
 // Material laws of the structure (solid/material_*.hpp) under prescribed strain paths, against closed forms
 // written out here from physics.md §6 (not taken from the code under test).
-#include "material_deshpande_fleck.hpp"
-#include "material_elastic.hpp"
-#include "material_foam_1d.hpp"
-#include "material_johnson_cook.hpp"
+#include "solid/material_deshpande_fleck.hpp"
+#include "solid/material_elastic.hpp"
+#include "solid/material_foam_1d.hpp"
+#include "solid/material_johnson_cook.hpp"
 
 #include <gtest/gtest.h>
 

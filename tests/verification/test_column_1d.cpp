@@ -1,11 +1,11 @@
 // The 1D layered column of the structure solver (solid/column_1d.hpp): wave speeds and reflections,
 // energy conservation and balance, inversion, bad layers.
-#include "column_1d.hpp"
-#include "material_elastic.hpp"
-#include "material_foam_1d.hpp"
-#include "material_johnson_cook.hpp"
+#include "solid/column_1d.hpp"
+#include "solid/material_elastic.hpp"
+#include "solid/material_foam_1d.hpp"
+#include "solid/material_johnson_cook.hpp"
 
-#include "peak.hpp"
+#include "tests/support/peak.hpp"
 
 #include <gtest/gtest.h>
 

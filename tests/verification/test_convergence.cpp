@@ -2,7 +2,7 @@
 // between the two finest meshes. The bound k + 0.8 leaves room for pre-asymptotic effects on these small
 // meshes; the design order of a degree-k DG scheme is k + 1. The limiter stays on (TVB indicator), so the
 // test also checks that it leaves smooth solutions alone.
-#include "run_case.hpp"
+#include "tests/support/run_case.hpp"
 
 #include <gtest/gtest.h>
 

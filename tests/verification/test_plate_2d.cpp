@@ -1,11 +1,11 @@
 // The 2D quadrilaterals of the structure solver (solid/plate_2d.hpp): patch test, plane-strain wave speed
 // and reflections, the clamped circular plate against the small-deflection plate solution, energy
 // conservation and balance, hourglass energy, inversion.
-#include "material_elastic.hpp"
-#include "material_johnson_cook.hpp"
-#include "plate_2d.hpp"
+#include "solid/material_elastic.hpp"
+#include "solid/material_johnson_cook.hpp"
+#include "solid/plate_2d.hpp"
 
-#include "peak.hpp"
+#include "tests/support/peak.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // independently of the solver (Toro ch. 4 generalised to stiffened gases; mass and momentum jump
 // conditions for barotropic Tait water). Errors are L1 (mean absolute error over the domain, sampled at
 // cell centres from the DG polynomials), relative to the scale named in each test.
-#include "exact_riemann.hpp"
-#include "run_case.hpp"
+#include "tests/support/exact_riemann.hpp"
+#include "tests/support/run_case.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Whole-solver verification: conservation, the paper's case 4.2, geometric sources, and failure handling.
-#include "case_file.hpp"
-#include "run_case.hpp"
+#include "base/case_file.hpp"
+#include "tests/support/run_case.hpp"
 
 #include <gtest/gtest.h>
 

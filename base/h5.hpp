@@ -31,4 +31,17 @@ void write_table(hid_t file, const std::string& group, const std::vector<std::st
 // flushed while the run goes on; a negative id on failure.
 hid_t create(const std::string& path);
 
+// Reading back an output file of either solver: the case, the output times and groups, the gauge names.
+struct StoredRun {
+    std::string case_text;
+    std::vector<double> times;
+    std::vector<std::string> groups;
+    std::vector<std::string> gauge_names;
+};
+StoredRun read_run(const std::string& h5_path);
+// The columns of one gauge (fluid: t, rho, u, v, p; structure: t, u, v, a, stress_xx, peeq).
+std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name,
+                                            const std::vector<std::string>& columns = {"t", "rho", "u", "v",
+                                                                                       "p"});
+
 } // namespace undex::h5

@@ -3,8 +3,9 @@
 // SIGINT and SIGTERM end the run at the next step (install_stop_handler); errors become one line on stderr
 // and the exit status: 1 bad case (or another error), 3 coupling failure, 64 usage; run returns the rest.
 #pragma once
-#include "case_file.hpp"
-#include "participant.hpp"
+#include "base/case_file.hpp"
+#include "base/signals.hpp"
+#include "coupler/participant.hpp"
 
 #include <cstring>
 #include <iostream>

@@ -6,13 +6,14 @@
 //   undex sample DIR --time T --line "x0,y0 x1,y1" --points N [--fields rho,u,v,p]
 //   undex gauges DIR [--name NAME]
 //   undex options                              list the named choices of a case file
-#include "case.pb.h"
-#include "case_file.hpp"
-#include "conform.hpp"
-#include "h5.hpp"
-#include "output.hpp"
-#include "setup.hpp"
-#include "structure_setup.hpp"
+#include "proto/case.pb.h"
+#include "base/case_file.hpp"
+#include "coupler/conform.hpp"
+#include "base/h5.hpp"
+#include "base/run_plan.hpp"
+#include "fluid/output.hpp"
+#include "fluid/setup.hpp"
+#include "solid/structure_setup.hpp"
 
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -93,7 +94,7 @@ struct Parts {
     bool fluid, structure;
 };
 Parts check_parts(const undex::CaseFile& c) {
-    const Parts p{undex::solid::has_fluid(c), undex::solid::has_structure(c)};
+    const Parts p{undex::has_fluid(c), undex::has_structure(c)};
     if (!p.fluid && !p.structure)
         c.fail("regions", "the case models nothing: give fluid regions or a structure");
     if (p.fluid) undex::fluid::validate(c);
@@ -127,7 +128,7 @@ int check(const Args& a) {
         }
         std::cout << "; ";
     }
-    const auto p = undex::fluid::plan(c);
+    const auto p = undex::plan(c);
     std::cout << a.positional[0] << ": ok: " << undex::config::Geometry_Name(m.geometry()) << ", "
               << m.domain().cells_x();
     if (m.domain().has_cells_y()) std::cout << " x " << m.domain().cells_y();
@@ -236,7 +237,7 @@ int run_coupled(const Args& a, const undex::CaseFile& c, const std::filesystem::
         endpoint = "ipc://" +
                    (std::filesystem::temp_directory_path() / ("undex-" + std::to_string(getpid()) + ".ipc"))
                        .string();
-    const auto plan = undex::fluid::plan(c);
+    const auto plan = undex::plan(c);
     std::filesystem::create_directories(plan.directory);
     const auto& st = c.get().structure();
     std::vector<std::string> fluid = {(bin / "undex-fluid").string(), a.positional[0]}, solid;
@@ -372,7 +373,7 @@ int sample(const Args& a) {
     if (std::filesystem::path(h5).filename() == "solid.h5")
         throw std::runtime_error(h5 + ": sample evaluates fluid fields; a structure's fields are datasets of "
                                       "solid.h5 (fields/NNNNNN) and its gauges print with `undex gauges`");
-    const auto run = undex::fluid::read_run(h5);
+    const auto run = undex::h5::read_run(h5);
     if (run.times.empty()) throw std::runtime_error(h5 + ": holds no output");
     const double t = std::stod(a.options.at("time"));
     size_t best = 0;
@@ -419,7 +420,7 @@ int sample(const Args& a) {
 int gauges(const Args& a) {
     if (a.positional.size() != 1) throw std::invalid_argument("gauges needs one output DIR");
     const std::string h5 = h5_of(a.positional[0]);
-    const auto run = undex::fluid::read_run(h5);
+    const auto run = undex::h5::read_run(h5);
     std::vector<std::string> names = run.gauge_names;
     if (a.options.count("name")) {
         names = {a.options.at("name")};
@@ -443,7 +444,7 @@ int gauges(const Args& a) {
     }
     std::vector<std::vector<std::vector<double>>> cols;
     for (const auto& n : names)
-        cols.push_back(undex::fluid::read_gauge(h5, n, columns));
+        cols.push_back(undex::h5::read_gauge(h5, n, columns));
     std::printf("t");
     const bool many = names.size() > 1;
     for (const auto& n : names)

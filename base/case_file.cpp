@@ -1,10 +1,6 @@
-#include "case_file.hpp"
+#include "base/case_file.hpp"
 
-#include <signal.h>
-
-#include <csignal>
-
-#include "case.pb.h"
+#include "proto/case.pb.h"
 
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
@@ -228,25 +224,6 @@ std::string CaseFile::text() const {
     std::string out;
     pb::TextFormat::PrintToString(*case_, &out);
     return out;
-}
-
-} // namespace undex
-
-namespace undex {
-
-namespace {
-volatile std::sig_atomic_t stop_signal = 0;
-}
-
-void install_stop_handler() {
-    struct sigaction sa {};
-    sa.sa_handler = [](int sig) { stop_signal = sig; };
-    sigaction(SIGINT, &sa, nullptr);
-    sigaction(SIGTERM, &sa, nullptr);
-}
-
-bool stop_requested() {
-    return stop_signal != 0;
 }
 
 } // namespace undex

@@ -1,4 +1,4 @@
-#include "h5.hpp"
+#include "base/h5.hpp"
 
 #include <stdexcept>
 
@@ -124,6 +124,44 @@ hid_t open_read(const std::string& path) {
     hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0) throw std::runtime_error(path + ": cannot open (not an HDF5 output of undex?)");
     return f;
+}
+
+StoredRun read_run(const std::string& h5_path) {
+    hid_t f = open_read(h5_path);
+    StoredRun r;
+    r.case_text = read_attr_string(f, "case");
+    hid_t fields = H5Gopen2(f, "fields", H5P_DEFAULT);
+    H5G_info_t info;
+    H5Gget_info(fields, &info);
+    for (hsize_t k = 0; k < info.nlinks; ++k) {
+        char name[64];
+        H5Lget_name_by_idx(fields, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
+        hid_t g = H5Gopen2(fields, name, H5P_DEFAULT);
+        r.groups.push_back(std::string("fields/") + name);
+        r.times.push_back(read_attr_double(g, "time"));
+        H5Gclose(g);
+    }
+    H5Gclose(fields);
+    hid_t gauges = H5Gopen2(f, "gauges", H5P_DEFAULT);
+    H5Gget_info(gauges, &info);
+    for (hsize_t k = 0; k < info.nlinks; ++k) {
+        char name[256];
+        H5Lget_name_by_idx(gauges, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
+        r.gauge_names.push_back(name);
+    }
+    H5Gclose(gauges);
+    H5Fclose(f);
+    return r;
+}
+
+std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name,
+                                            const std::vector<std::string>& columns) {
+    hid_t f = open_read(h5_path);
+    std::vector<std::vector<double>> cols;
+    for (const auto& c : columns)
+        cols.push_back(read_dataset(f, "gauges/" + name + "/" + c));
+    H5Fclose(f);
+    return cols;
 }
 
 } // namespace undex::h5

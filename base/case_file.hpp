@@ -45,10 +45,4 @@ class CaseFile {
     std::unique_ptr<Locations> locations_;
     std::vector<std::string> overridden_;
 };
-
-// SIGINT and SIGTERM end a solver's run at the next step, with its last good state written (the solvers'
-// main functions install this; their loops ask stop_requested()).
-void install_stop_handler();
-bool stop_requested();
-
 } // namespace undex

@@ -1,0 +1,45 @@
+// What every solver executable needs of a case besides its own physics: which parts the case holds, the run
+// plan (end time, output times, directory, gauges), the coupling timeouts, prescribed pressure histories.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace undex {
+class CaseFile;
+namespace config {
+class PressureHistory;
+}
+
+struct GaugePoint {
+    std::string name;
+    double x = 0, y = 0;
+};
+
+struct RunPlan {
+    double end_time = 0;
+    std::vector<double> output_times; // sorted, ending with end_time
+    std::string directory;
+    double progress_seconds = 2;
+    int gauge_every = 1;
+    int threads = 0;
+    long max_steps = 0;
+    std::vector<GaugePoint> gauges;
+};
+
+// Whether the case holds a fluid (regions, domain, boundaries or fluid materials) and whether it holds a
+// structure.
+bool has_fluid(const CaseFile& c);
+bool has_structure(const CaseFile& c);
+// The run plan (output times, directory, gauges) of a validated case.
+RunPlan plan(const CaseFile& c);
+// Whether an output directory can be created or written (tested for real, leaving nothing behind).
+bool writable_directory(const std::string& directory);
+// Checks the case's coupling timeouts (used by both solvers).
+void validate_coupling(const CaseFile& c);
+// A prescribed pressure history p(t) (exponential or table) of a case, checked and as a function; shared by
+// fluid boundaries and structure faces.
+void validate_pressure_history(const CaseFile& c, const config::PressureHistory& h, const std::string& path);
+std::function<double(double)> pressure_history(const config::PressureHistory& h);
+
+} // namespace undex
