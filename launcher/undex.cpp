@@ -6,13 +6,13 @@
 //   undex sample DIR --time T --line "x0,y0 x1,y1" --points N [--fields rho,u,v,p]
 //   undex gauges DIR [--name NAME]
 //   undex options                              list the named choices of a case file
-#include "proto/case.pb.h"
 #include "base/case_file.hpp"
-#include "coupler/conform.hpp"
 #include "base/h5.hpp"
 #include "base/run_plan.hpp"
+#include "coupler/conform.hpp"
 #include "fluid/output.hpp"
 #include "fluid/setup.hpp"
+#include "proto/case.pb.h"
 #include "solid/structure_setup.hpp"
 
 #include <arpa/inet.h>
@@ -117,10 +117,10 @@ int check(const Args& a) {
     } else if (parts.structure) {
         const auto s = undex::solid::make_structure(c);
         std::cout << a.positional[0] << ": ok: structure of " << m.structure().layers_size() << " layer(s), "
-                  << (s.plate ? s.plate->element_count() : s.column->element_count()) << " elements"
-                  << (s.plate ? (s.plate->plane() == undex::solid::Plane::Axisymmetric ? " (axisymmetric)"
-                                                                                       : " (plane strain)")
-                              : "")
+                  << s.structure->element_count() << " elements"
+                  << (s.structure->dimension() == 1                    ? ""
+                      : m.geometry() == undex::config::AXISYMMETRIC_2D ? " (axisymmetric)"
+                                                                       : " (plane strain)")
                   << ", time step " << s.dt << " s";
         if (!parts.fluid) {
             std::cout << ", end time " << m.end_time() << " s\n";

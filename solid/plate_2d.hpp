@@ -16,6 +16,7 @@
 // user factor (1 by default). The hourglass energy is ½ K q², part of the energy balance.
 #pragma once
 #include "solid/material.hpp"
+#include "solid/structure.hpp"
 
 #include <algorithm>
 #include <array>
@@ -33,6 +34,9 @@ struct QuadMesh {
     std::vector<double> x, y;              // reference node coordinates (x = r in axisymmetry)
     std::vector<std::array<int, 4>> quads; // node numbers, counter-clockwise
     std::vector<int> law;                  // per element: index into the laws
+    // A structured grid of grid_nx × grid_ny elements: node (i, j) is j (grid_nx + 1) + i, element (i, j) is
+    // j grid_nx + i (0 for other meshes).
+    int grid_nx = 0, grid_ny = 0;
 };
 
 // A layered plate on a structured mesh: x from x0 over the span (nx elements), y through the thickness from
@@ -70,15 +74,17 @@ inline LayeredPlate layered_plate(double x0, double span, int nx, const std::vec
             p.mesh.quads.push_back({p.node(i, j), p.node(i + 1, j), p.node(i + 1, j + 1), p.node(i, j + 1)});
             p.mesh.law.push_back(p.layer_of_row[j]);
         }
+    p.mesh.grid_nx = p.nx, p.mesh.grid_ny = p.ny;
     return p;
 }
 
-class Plate2D {
+class Plate2D : public Structure {
   public:
     Plate2D(QuadMesh mesh, std::vector<std::shared_ptr<const MaterialLaw>> laws, Plane plane,
             double hourglass = 1.0)
         : plane_(plane), laws_(std::move(laws)), X_(std::move(mesh.x)), Y_(std::move(mesh.y)),
-          quads_(std::move(mesh.quads)), law_of_(std::move(mesh.law)) {
+          quads_(std::move(mesh.quads)), law_of_(std::move(mesh.law)), grid_nx_(mesh.grid_nx),
+          grid_ny_(mesh.grid_ny) {
         const size_t n = X_.size(), ne = quads_.size();
         parallel_ = ne >= 2048;
         require(Y_.size() == n && law_of_.size() == ne && ne > 0, "a 2D mesh needs nodes and elements");
@@ -142,8 +148,8 @@ class Plate2D {
     }
 
     Plane plane() const { return plane_; }
-    size_t nodes() const { return X_.size(); }
-    size_t element_count() const { return quads_.size(); }
+    size_t nodes() const override { return X_.size(); }
+    size_t element_count() const override { return quads_.size(); }
     double node_x(size_t i) const { return X_[i]; } // reference coordinates
     double node_y(size_t i) const { return Y_[i]; }
     const std::array<int, 4>& quad(size_t e) const { return quads_[e]; }
@@ -159,9 +165,16 @@ class Plate2D {
     double mass(size_t i) const { return mass_[i]; }
     const PointState& point(size_t e) const { return points_[e]; }
     double hourglass_energy(size_t e) const { return ehg_[e]; }
-    double time() const { return time_; }
-    long steps() const { return steps_; }
-    const Energies& energies() const { return en_; }
+    double time() const override { return time_; }
+    long steps() const override { return steps_; }
+    const Energies& energies() const override { return en_; }
+    std::string description() const override {
+        std::string d = plane_ == Plane::Axisymmetric ? "axisymmetric plate, " : "plane-strain plate, ";
+        if (grid_nx_ > 0)
+            return d + std::to_string(grid_nx_) + " x " + std::to_string(grid_ny_) + " elements";
+        return d + std::to_string(quads_.size()) + " elements";
+    }
+    int dimension() const override { return 2; }
 
     // Constrains the x and/or y velocity of a node to its present value (zero unless set_velocity changed
     // it): fixed nodes, symmetry planes and axes, clamped edges, and prescribed motion in tests.
@@ -178,10 +191,55 @@ class Plate2D {
     void add_pressure(std::vector<std::array<int, 2>> edges, std::function<double(double)> p) {
         loads_.push_back({std::move(edges), std::move(p)});
     }
+    // A face wetted by a fluid: boundary edges as for add_pressure. Its nodes become wet nodes.
+    void add_wet_face(const std::vector<std::array<int, 2>>& edges) {
+        require(!edges.empty(), "a wet face needs at least one edge");
+        for (const auto& e : edges)
+            for (int i : e)
+                if (std::find(wet_.begin(), wet_.end(), i) == wet_.end()) wet_.push_back(i);
+        wet_edges_.insert(wet_edges_.end(), edges.begin(), edges.end());
+    }
+
+    // Wet nodes on the current configuration. The area of a node is its share of its wet edges, with the
+    // weights the pressure loads use (half each in plane strain; (2 r_i + r_j) / 6 per unit length in
+    // axisymmetry, per radian), and its normal the normalised sum of those shares' inward normals.
+    std::vector<WetNode> wet_nodes() const override {
+        std::vector<WetNode> w(wet_.size());
+        const bool axi = plane_ == Plane::Axisymmetric;
+        for (const auto& edge : wet_edges_) {
+            const int i = edge[0], j = edge[1];
+            const double xi = X_[i] + ux_[i], xj = X_[j] + ux_[j];
+            const double dx = xj - xi, dy = Y_[j] + uy_[j] - Y_[i] - uy_[i];
+            const double si = axi ? (2 * xi + xj) / 6 : 0.5, sj = axi ? (xi + 2 * xj) / 6 : 0.5;
+            const double length = std::hypot(dx, dy);
+            for (const auto& [node, share] : {std::pair{i, si}, std::pair{j, sj}}) {
+                WetNode& n = w[std::find(wet_.begin(), wet_.end(), node) - wet_.begin()];
+                n.area += share * length;
+                n.normal_x += -dy * share, n.normal_y += dx * share; // inward: minus (Δy, −Δx)
+            }
+        }
+        for (size_t k = 0; k < wet_.size(); ++k) {
+            WetNode& n = w[k];
+            const size_t i = wet_[k];
+            const double len = std::hypot(n.normal_x, n.normal_y);
+            n.normal_x /= len, n.normal_y /= len;
+            n.x = X_[i] + ux_[i], n.y = Y_[i] + uy_[i];
+            n.velocity = vx_[i] * n.normal_x + vy_[i] * n.normal_y;
+        }
+        return w;
+    }
+    std::vector<InterfaceSolution> step(double dt, std::span<const FluidCharacteristic> fluid) override {
+        // The plate's wet nodes are reported (wet_nodes); solving them with the fluid's characteristic
+        // comes with the 2D fluid–structure coupling, and set-up refuses a FLUID face on a plate until then.
+        if (!fluid.empty())
+            throw std::invalid_argument("Plate2D::step: a fluid load on a plate is not available yet");
+        step(dt);
+        return {};
+    }
 
     // Largest stable step, without safety factor: min over elements of L_e / c_e with L_e the area over the
     // longest diagonal, which bounds the one-point quadrilateral's dilatational mode for any Poisson ratio.
-    double stable_dt() const {
+    double stable_dt() const override {
         double dt = 1e300;
         for (size_t e = 0; e < quads_.size(); ++e) {
             const auto& q = quads_[e];
@@ -289,6 +347,80 @@ class Plate2D {
         en_.kinetic = kinetic(dt);
     }
 
+    // Output (solid/run_structure.hpp lists the datasets).
+    std::vector<Field> mesh_fields() const override {
+        Field xy{"nodes", Field::Centre::Mesh, 2, {}, {}}, quads{"quads", Field::Centre::Mesh, 4, {}, {}},
+            layer{"layer", Field::Centre::Mesh, 1, {}, law_of_};
+        for (size_t i = 0; i < nodes(); ++i)
+            xy.values.insert(xy.values.end(), {X_[i], Y_[i]});
+        for (const auto& q : quads_)
+            quads.integers.insert(quads.integers.end(), q.begin(), q.end());
+        return {xy, quads, layer};
+    }
+    std::vector<Field> state_fields() const override {
+        const size_t n = nodes();
+        Field position{"position", Field::Centre::Node, 2, std::vector<double>(2 * n), {}};
+        for (size_t i = 0; i < n; ++i)
+            position.values[2 * i] = X_[i] + ux_[i], position.values[2 * i + 1] = Y_[i] + uy_[i];
+        std::vector<Field> f = {position,
+                                {"u_x", Field::Centre::Node, 1, ux_, {}},
+                                {"u_y", Field::Centre::Node, 1, uy_, {}},
+                                {"v_x", Field::Centre::Node, 1, vx_, {}},
+                                {"v_y", Field::Centre::Node, 1, vy_, {}},
+                                {"a_x", Field::Centre::Node, 1, ax_, {}},
+                                {"a_y", Field::Centre::Node, 1, ay_, {}}};
+        auto element_field = [&](const char* name, auto pick) {
+            Field e{name, Field::Centre::Element, 1, {}, {}};
+            for (size_t k = 0; k < quads_.size(); ++k)
+                e.values.push_back(pick(k));
+            f.push_back(std::move(e));
+        };
+        static const char* const stress[4] = {"stress_xx", "stress_yy", "stress_zz", "stress_xy"};
+        for (int k = 0; k < 4; ++k)
+            element_field(stress[k], [&](size_t e) { return points_[e].stress[k]; });
+        element_field("von_mises", [&](size_t e) { return von_mises(points_[e].stress); });
+        element_field("peeq", [&](size_t e) { return points_[e].peeq; });
+        element_field("peeq_rate", [&](size_t e) { return points_[e].peeq_rate; });
+        element_field("hourglass_energy", [&](size_t e) { return ehg_[e]; });
+        return f;
+    }
+    std::vector<std::string> gauge_columns() const override {
+        return {"u_x",       "u_y",       "v_x",       "v_y",       "a_x", "a_y",
+                "stress_xx", "stress_yy", "stress_zz", "stress_xy", "peeq"};
+    }
+    // The nearest node, and the element containing the point: on a structured grid the one left of and
+    // below it where it lies on an element edge; otherwise the first whose bounding box holds it.
+    GaugeSite locate(double x, double y) const override {
+        GaugeSite g;
+        double best = 1e300;
+        for (size_t i = 0; i < nodes(); ++i) {
+            const double d = std::hypot(X_[i] - x, Y_[i] - y);
+            if (d < best) best = d, g.node = i;
+        }
+        if (grid_nx_ > 0) {
+            int i = 0, j = 0;
+            while (i + 1 < grid_nx_ && X_[i + 1] < x)
+                ++i;
+            while (j + 1 < grid_ny_ && Y_[(j + 1) * (grid_nx_ + 1)] < y)
+                ++j;
+            g.element = static_cast<size_t>(j) * grid_nx_ + i;
+            return g;
+        }
+        for (size_t e = 0; e < quads_.size(); ++e) {
+            const auto& q = quads_[e];
+            const auto [x0, x1] = std::minmax({X_[q[0]], X_[q[1]], X_[q[2]], X_[q[3]]});
+            const auto [y0, y1] = std::minmax({Y_[q[0]], Y_[q[1]], Y_[q[2]], Y_[q[3]]});
+            if (x >= x0 && x <= x1 && y >= y0 && y <= y1) return g.element = e, g;
+        }
+        return g;
+    }
+    void gauge_values(const GaugeSite& g, std::vector<double>& row) const override {
+        const auto& s = points_[g.element];
+        const size_t n = g.node;
+        row.insert(row.end(), {ux_[n], uy_[n], vx_[n], vy_[n], ax_[n], ay_[n], s.stress[0], s.stress[1],
+                               s.stress[2], s.stress[3], s.peeq});
+    }
+
   private:
     struct Shape {
         double area, bx[4], by[4];
@@ -314,6 +446,9 @@ class Plate2D {
     std::vector<double> kx_, ky_, efx_, efy_, ehg_;
     std::vector<int> incidence_start_, incidence_;
     std::vector<Load> loads_;
+    int grid_nx_ = 0, grid_ny_ = 0;
+    std::vector<int> wet_; // wet nodes in the order they were first named
+    std::vector<std::array<int, 2>> wet_edges_;
     // Threads only for meshes large enough to repay the start of a parallel loop (several per step).
     bool parallel_ = false;
     Energies en_;

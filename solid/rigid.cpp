@@ -6,15 +6,15 @@
 // equation of motion (interface_node.hpp); the dashpot uses the velocity of the last half step.
 // Output <dir>/solid.h5: attributes case, status; /gauges/plate with t, u, v, p_I (columns attribute of
 // /gauges), so `undex gauges DIR/solid.h5` prints it; /coupling with t, dt, p_I, u_I of every step.
-#include "proto/case.pb.h"
 #include "solid/rigid.hpp"
+#include "proto/case.pb.h"
 
 #include "base/case_file.hpp"
 #include "base/h5.hpp"
-#include "solid/interface_node.hpp"
-#include "coupler/participant.hpp"
+#include "base/run_driver.hpp"
 #include "base/run_plan.hpp"
-#include "base/signals.hpp"
+#include "coupler/participant.hpp"
+#include "solid/interface_node.hpp"
 #include "solid/structure_setup.hpp"
 
 #include <filesystem>
@@ -59,6 +59,61 @@ class RigidOutput {
     hid_t file_ = -1;
 };
 
+// The plate for the driver (base/run_driver.hpp): it follows the fluid's clock.
+class RigidRun : public Run {
+  public:
+    RigidRun(const CaseFile& c, const RunPlan& p, const RigidPlateModel& m,
+             std::unique_ptr<coupling::StructureParticipant> link)
+        : m_(m), link_(std::move(link)), out_(p.directory, c.text()) {
+        out_.plate.insert(out_.plate.end(), {t_, x_, v_, m_.back_pressure});
+    }
+    double time() const override { return t_; }
+    long steps() const override { return n_; }
+    bool owns_clock() const override { return false; }
+    std::optional<Step> next_step(const OutputClock&) override {
+        if (!link_->exchange({m_.dt, {x_}, {0.0}, {v_}}, g_)) return std::nullopt;
+        return Step{g_.dt, g_.output};
+    }
+    void advance(const Step& s) override {
+        const double h = n_ == 0 ? 0.5 * s.dt : 0.5 * (s.dt + last_dt_);
+        const double F = -m_.back_pressure - m_.stiffness * x_ - m_.damping * v_;
+        const auto w = solve_interface_node(m_.mass_per_area, v_, h, F, 1.0,
+                                            {g_.p_L[0], g_.u_L[0], g_.Z_L[0], g_.geometric[0], g_.p_floor});
+        v_ = w.u_I;
+        x_ += s.dt * v_;
+        link_->answer({{w.p_I}, {w.u_I}, {x_}, {0.0}});
+        out_.coupling.insert(out_.coupling.end(), {t_, s.dt, w.p_I, w.u_I});
+        t_ += s.dt;
+        last_dt_ = s.dt;
+        ++n_;
+        out_.plate.insert(out_.plate.end(), {t_, x_, v_, w.p_I});
+    }
+    void record() override {} // the plate's history has a row per step (advance)
+    void write_output() override { out_.write(); }
+    void complete() override {
+        out_.write();
+        out_.set_status("complete");
+    }
+    void fail(const std::string& why) override {
+        link_->fail(why); // best effort: the peer learns the cause
+        out_.write();
+        out_.set_status("failed: " + why);
+    }
+    std::string output_path() const override { return out_.path(); }
+    std::string summary(double) const override { return " (" + link_->stop_reason() + ")"; }
+    bool coupling_error(const std::exception& e) const override {
+        return dynamic_cast<const coupling::CouplingError*>(&e) != nullptr;
+    }
+
+  private:
+    RigidPlateModel m_;
+    std::unique_ptr<coupling::StructureParticipant> link_;
+    RigidOutput out_;
+    coupling::Grant g_;
+    double t_ = 0, x_ = 0, v_ = 0, last_dt_ = 0; // v_: velocity of the last half step
+    long n_ = 0;
+};
+
 } // namespace
 
 int run_rigid(const CaseFile& c, const std::string& couple) {
@@ -72,50 +127,12 @@ int run_rigid(const CaseFile& c, const std::string& couple) {
     o.endpoint = couple;
     o.timeout_ms = static_cast<int>(1000 * c.get().coupling().timeout());
     o.handshake_timeout_ms = static_cast<int>(1000 * c.get().coupling().handshake_timeout());
-    coupling::StructureParticipant link(o, "undex-rigid", "0.1.0");
+    auto link = std::make_unique<coupling::StructureParticipant>(o, "undex-rigid", "0.1.0");
     coupling::Interface i;
     i.x = {0.0}, i.y = {0.0}, i.normal_x = {1.0}, i.normal_y = {0.0}, i.area = {1.0};
-    link.initialize(i);
-    RigidOutput out(plan.directory, c.text());
-    double t = 0, x = 0, v = 0, last_dt = 0; // v: velocity of the last half step
-    out.plate.insert(out.plate.end(), {t, x, v, m.back_pressure});
-    try {
-        for (long n = 0;; ++n) {
-            if (stop_requested()) {
-                link.fail("stopped by a signal (SIGINT or SIGTERM)");
-                out.write();
-                out.set_status("failed: stopped by a signal (SIGINT or SIGTERM)");
-                std::cerr << "undex-rigid: stopped by a signal; the history up to t = " << t << " s is in "
-                          << out.path() << std::endl;
-                return 4;
-            }
-            coupling::Grant g;
-            if (!link.exchange({m.dt, {x}, {0.0}, {v}}, g)) break;
-            const double h = n == 0 ? 0.5 * g.dt : 0.5 * (g.dt + last_dt);
-            const double F = -m.back_pressure - m.stiffness * x - m.damping * v;
-            const auto s = solve_interface_node(
-                m.mass_per_area, v, h, F, 1.0, {g.p_L[0], g.u_L[0], g.Z_L[0], g.geometric[0], g.p_floor});
-            v = s.u_I;
-            x += g.dt * v;
-            link.answer({{s.p_I}, {s.u_I}, {x}, {0.0}});
-            out.coupling.insert(out.coupling.end(), {t, g.dt, s.p_I, s.u_I});
-            t += g.dt;
-            last_dt = g.dt;
-            out.plate.insert(out.plate.end(), {t, x, v, s.p_I});
-            if (g.output) out.write();
-        }
-    } catch (const coupling::CouplingError& e) {
-        link.fail(e.what());
-        out.write();
-        out.set_status(std::string("failed: coupling: ") + e.what());
-        std::cerr << "undex-rigid: error: coupling: " << e.what()
-                  << "\nundex-rigid: the history up to t = " << t << " s is in " << out.path() << std::endl;
-        return stop_requested() ? 4 : 3;
-    }
-    out.write();
-    out.set_status("complete");
-    std::cout << "undex-rigid: done: t = " << t << " s (" << link.stop_reason() << ")" << std::endl;
-    return 0;
+    link->initialize(i);
+    RigidRun r(c, plan, m, std::move(link));
+    return drive(r, plan, "undex-rigid", std::cout);
 }
 
 } // namespace undex::solid

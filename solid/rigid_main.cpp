@@ -1,4 +1,5 @@
-// undex-rigid CASE [--set key=value]... --couple ENDPOINT: the rigid-plate structure solver (solid/rigid.hpp).
+// undex-rigid CASE [--set key=value]... --couple ENDPOINT: the rigid-plate structure solver
+// (solid/rigid.hpp).
 #include "base/solver_main.hpp"
 #include "solid/rigid.hpp"
 

@@ -1,12 +1,15 @@
 #include "solid/structure_setup.hpp"
 
-#include "proto/case.pb.h"
+#include "solid/column_1d.hpp"
+#include "solid/plate_2d.hpp"
+
 #include "base/case_file.hpp"
+#include "base/run_plan.hpp"
+#include "proto/case.pb.h"
 #include "solid/material_deshpande_fleck.hpp"
 #include "solid/material_elastic.hpp"
 #include "solid/material_foam_1d.hpp"
 #include "solid/material_johnson_cook.hpp"
-#include "base/run_plan.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -25,7 +28,6 @@ const std::vector<std::pair<const char*, const char*>>& kinematics_names() {
     };
     return names;
 }
-
 
 namespace {
 
@@ -93,9 +95,7 @@ void check_edge(const CaseFile& cf, const cfg::SolidEdge& e, const std::string& 
 }
 
 // Face and edge conditions and loads of a 2D plate.
-void apply_plate_conditions(const cfg::Structure& st, StructureModel& m) {
-    Plate2D& plate = *m.plate;
-    const LayeredPlate& lp = m.layout;
+void apply_plate_conditions(const cfg::Structure& st, const LayeredPlate& lp, Plate2D& plate) {
     for (int side = 0; side < 2; ++side) {
         const auto& f = side == 0 ? st.front() : st.back();
         const int j = side == 0 ? 0 : lp.ny;
@@ -175,27 +175,11 @@ void check_structure(const CaseFile& cf) {
     make_structure(cf);
 }
 
-StructureModel make_structure(const CaseFile& cf) {
-    const auto& c = cf.get();
-    if (!c.has_structure()) cf.fail("structure", "the case has no structure");
-    undex::validate_coupling(cf);
-    const auto& st = c.structure();
-    if (st.has_rigid_plate())
-        cf.fail("structure.rigid_plate", "a rigid plate is solved by undex-rigid, not undex-solid");
-    if (st.has_command())
-        cf.fail("structure.command", "the structure is solved by '" + st.command() + "', not undex-solid");
-    const bool two_d = c.geometry() == cfg::PLANAR_2D || c.geometry() == cfg::AXISYMMETRIC_2D;
-    const bool axi = c.geometry() == cfg::AXISYMMETRIC_2D;
-    if (!two_d && c.geometry() != cfg::PLANAR_1D)
-        cf.fail("geometry",
-                "a structure is a 1D column (PLANAR_1D) or a 2D plate (PLANAR_2D, AXISYMMETRIC_2D)");
-    if (two_d && !st.has_plate())
-        cf.fail("structure.plate", "a 2D structure needs 'plate' (x_min, span, element_size, left, right)");
-    if (!two_d && st.has_plate()) cf.fail("structure.plate", "a 1D column (PLANAR_1D) has no plate");
-    if (two_d && st.has_kinematics())
-        cf.fail("structure.kinematics", "kinematics applies to 1D columns only; 2D plates are "
-                                        "plane strain (PLANAR_2D) or axisymmetric (AXISYMMETRIC_2D)");
-    // Materials.
+namespace {
+
+// The material laws by name.
+std::map<std::string, std::shared_ptr<const MaterialLaw>> make_laws(const CaseFile& cf) {
+    const auto& st = cf.get().structure();
     std::map<std::string, std::shared_ptr<const MaterialLaw>> laws;
     for (int m = 0; m < st.materials_size(); ++m) {
         const auto& mat = st.materials(m);
@@ -210,7 +194,14 @@ StructureModel make_structure(const CaseFile& cf) {
             cf.fail(path + "." + law_field(mat), e.what());
         }
     }
-    // Layers.
+    return laws;
+}
+
+// The layers, front to back, each with its law and element count.
+std::vector<Layer1D> make_layers(const CaseFile& cf,
+                                 const std::map<std::string, std::shared_ptr<const MaterialLaw>>& laws,
+                                 bool two_d) {
+    const auto& st = cf.get().structure();
     if (st.layers_size() == 0) cf.fail("structure.layers", "a structure needs at least one layer");
     std::vector<Layer1D> layers;
     for (int l = 0; l < st.layers_size(); ++l) {
@@ -239,6 +230,13 @@ StructureModel make_structure(const CaseFile& cf) {
                         "elastic, johnson_cook or deshpande_fleck");
         layers.push_back(layer);
     }
+    return layers;
+}
+
+// Faces, kinematics, safety factor, end time, output directory, hourglass factor, threads.
+void check_conditions(const CaseFile& cf) {
+    const auto& c = cf.get();
+    const auto& st = c.structure();
     check_face(cf, st.front(), "structure.front");
     check_face(cf, st.back(), "structure.back");
     bool known = false;
@@ -253,32 +251,36 @@ StructureModel make_structure(const CaseFile& cf) {
     const auto plan = undex::plan(cf);
     if (!undex::writable_directory(plan.directory))
         cf.fail("output.directory", "cannot write the output directory '" + plan.directory + "'");
-
     if (!(st.hourglass() >= 0)) cf.fail("structure.hourglass", "hourglass factor must be >= 0");
     if (st.threads() < 0) cf.fail("structure.threads", "must be >= 0");
+}
+
+// The plate's span, element size, edges and axis.
+void check_plate(const CaseFile& cf, bool axi) {
+    const auto& pl = cf.get().structure().plate();
+    if (!(pl.span() > 0)) cf.fail("structure.plate.span", "span must be positive");
+    if (!(pl.element_size() > 0))
+        cf.fail("structure.plate.element_size",
+                "element size must be positive (got " + gfmt(pl.element_size()) + " m)");
+    if (pl.span() < pl.element_size() * (1 - 1e-12))
+        cf.fail("structure.plate.span", "the span (" + gfmt(pl.span()) + " m) is shorter than one element (" +
+                                            gfmt(pl.element_size()) + " m)");
+    check_edge(cf, pl.left(), "structure.plate.left");
+    check_edge(cf, pl.right(), "structure.plate.right");
+    if (axi && !(pl.x_min() >= 0))
+        cf.fail("structure.plate.x_min", "an axisymmetric plate needs x_min = r >= 0");
+    if (axi && pl.x_min() == 0 && pl.left().type() != cfg::SolidEdge::SYMMETRY)
+        cf.fail("structure.plate.left.type",
+                "an axisymmetric plate from r = 0 needs SYMMETRY (the axis) there");
+}
+
+// Gauges: unique names, inside the structure.
+void check_gauges(const CaseFile& cf, bool two_d) {
+    const auto& st = cf.get().structure();
     double total = 0;
     for (const auto& L : st.layers())
         total += L.thickness();
-    double x_min = 0, span = 0;
-    if (two_d) {
-        const auto& pl = st.plate();
-        x_min = pl.x_min(), span = pl.span();
-        if (!(pl.span() > 0)) cf.fail("structure.plate.span", "span must be positive");
-        if (!(pl.element_size() > 0))
-            cf.fail("structure.plate.element_size",
-                    "element size must be positive (got " + gfmt(pl.element_size()) + " m)");
-        if (pl.span() < pl.element_size() * (1 - 1e-12))
-            cf.fail("structure.plate.span", "the span (" + gfmt(pl.span()) +
-                                                " m) is shorter than one element (" +
-                                                gfmt(pl.element_size()) + " m)");
-        check_edge(cf, pl.left(), "structure.plate.left");
-        check_edge(cf, pl.right(), "structure.plate.right");
-        if (axi && !(pl.x_min() >= 0))
-            cf.fail("structure.plate.x_min", "an axisymmetric plate needs x_min = r >= 0");
-        if (axi && pl.x_min() == 0 && pl.left().type() != cfg::SolidEdge::SYMMETRY)
-            cf.fail("structure.plate.left.type",
-                    "an axisymmetric plate from r = 0 needs SYMMETRY (the axis) there");
-    }
+    const double x_min = two_d ? st.plate().x_min() : 0, span = two_d ? st.plate().span() : 0;
     for (int k = 0; k < st.gauges_size(); ++k) {
         const auto& g = st.gauges(k);
         const std::string path = "structure.gauges[" + std::to_string(k) + "]";
@@ -294,43 +296,84 @@ StructureModel make_structure(const CaseFile& cf) {
                                      gfmt(x_min + span) + " m)");
         if (!two_d && g.has_y()) cf.fail(path + ".y", "a gauge of a 1D column has only the depth x");
     }
+}
+
+// A layered plate on its structured mesh, with its face and edge conditions.
+std::unique_ptr<Plate2D> make_plate(const CaseFile& cf, const std::vector<Layer1D>& layers, bool axi) {
+    const auto& st = cf.get().structure();
+    std::vector<double> thickness;
+    std::vector<int> rows;
+    std::vector<std::shared_ptr<const MaterialLaw>> per_layer;
+    for (const auto& L : layers) {
+        thickness.push_back(L.thickness);
+        rows.push_back(L.elements);
+        per_layer.push_back(L.law);
+    }
+    const auto& pl = st.plate();
+    const int nx = std::max(1, static_cast<int>(std::lround(pl.span() / pl.element_size())));
+    const LayeredPlate layout = layered_plate(pl.x_min(), pl.span(), nx, thickness, rows);
+    auto plate = std::make_unique<Plate2D>(layout.mesh, per_layer, axi ? Plane::Axisymmetric : Plane::Strain,
+                                           st.hourglass());
+    if (st.front().type() == cfg::SolidFace::FLUID)
+        cf.fail("structure.front.type", "coupling a 2D plate to a fluid is not available yet; 1D columns "
+                                        "(PLANAR_1D) couple");
+    apply_plate_conditions(st, layout, *plate);
+    return plate;
+}
+
+// A layered column with its face conditions; a FLUID front face is wet.
+std::unique_ptr<Column1D> make_column(const CaseFile& cf, const std::vector<Layer1D>& layers) {
+    const auto& st = cf.get().structure();
+    auto column = std::make_unique<Column1D>(layers, st.kinematics() == "uniaxial_strain"
+                                                         ? Kinematics1D::UniaxialStrain
+                                                         : Kinematics1D::UniaxialStress);
+    for (int side = 0; side < 2; ++side) {
+        const auto& f = side == 0 ? st.front() : st.back();
+        if (f.type() == cfg::SolidFace::FIXED) column->set_face(side, Face1D::Fixed);
+        if (f.type() == cfg::SolidFace::PRESSURE)
+            column->set_pressure(side, undex::pressure_history(f.pressure()));
+    }
+    if (st.front().type() == cfg::SolidFace::FLUID) column->set_wet(0);
+    return column;
+}
+
+} // namespace
+
+StructureModel make_structure(const CaseFile& cf) {
+    const auto& c = cf.get();
+    if (!c.has_structure()) cf.fail("structure", "the case has no structure");
+    undex::validate_coupling(cf);
+    const auto& st = c.structure();
+    if (st.has_rigid_plate())
+        cf.fail("structure.rigid_plate", "a rigid plate is solved by undex-rigid, not undex-solid");
+    if (st.has_command())
+        cf.fail("structure.command", "the structure is solved by '" + st.command() + "', not undex-solid");
+    const bool two_d = c.geometry() == cfg::PLANAR_2D || c.geometry() == cfg::AXISYMMETRIC_2D;
+    const bool axi = c.geometry() == cfg::AXISYMMETRIC_2D;
+    if (!two_d && c.geometry() != cfg::PLANAR_1D)
+        cf.fail("geometry",
+                "a structure is a 1D column (PLANAR_1D) or a 2D plate (PLANAR_2D, AXISYMMETRIC_2D)");
+    if (two_d && !st.has_plate())
+        cf.fail("structure.plate", "a 2D structure needs 'plate' (x_min, span, element_size, left, right)");
+    if (!two_d && st.has_plate()) cf.fail("structure.plate", "a 1D column (PLANAR_1D) has no plate");
+    if (two_d && st.has_kinematics())
+        cf.fail("structure.kinematics", "kinematics applies to 1D columns only; 2D plates are "
+                                        "plane strain (PLANAR_2D) or axisymmetric (AXISYMMETRIC_2D)");
+    const auto layers = make_layers(cf, make_laws(cf), two_d);
+    check_conditions(cf);
+    if (two_d) check_plate(cf, axi);
+    check_gauges(cf, two_d);
 
     StructureModel model;
     model.threads = st.threads();
     for (const auto& L : st.layers())
         model.layers.push_back(L.material());
-    double stable = 0;
-    if (two_d) {
-        std::vector<double> thickness;
-        std::vector<int> rows;
-        std::vector<std::shared_ptr<const MaterialLaw>> per_layer;
-        for (const auto& L : layers) {
-            thickness.push_back(L.thickness);
-            rows.push_back(L.elements);
-            per_layer.push_back(L.law);
-        }
-        const int nx = std::max(1, static_cast<int>(std::lround(span / st.plate().element_size())));
-        model.layout = layered_plate(x_min, span, nx, thickness, rows);
-        model.plate = std::make_unique<Plate2D>(model.layout.mesh, per_layer,
-                                                axi ? Plane::Axisymmetric : Plane::Strain, st.hourglass());
-        if (st.front().type() == cfg::SolidFace::FLUID)
-            cf.fail("structure.front.type", "coupling a 2D plate to a fluid is not available yet; 1D columns "
-                                            "(PLANAR_1D) couple");
-        apply_plate_conditions(st, model);
-        stable = model.plate->stable_dt();
-    } else {
-        model.column = std::make_unique<Column1D>(layers, st.kinematics() == "uniaxial_strain"
-                                                              ? Kinematics1D::UniaxialStrain
-                                                              : Kinematics1D::UniaxialStress);
-        for (int side = 0; side < 2; ++side) {
-            const auto& f = side == 0 ? st.front() : st.back();
-            if (f.type() == cfg::SolidFace::FIXED) model.column->set_face(side, Face1D::Fixed);
-            if (f.type() == cfg::SolidFace::PRESSURE)
-                model.column->set_pressure(side, undex::pressure_history(f.pressure()));
-        }
-        stable = model.column->stable_dt();
-        model.wet = st.front().type() == cfg::SolidFace::FLUID;
-    }
+    if (two_d)
+        model.structure = make_plate(cf, layers, axi);
+    else
+        model.structure = make_column(cf, layers);
+    model.wet = !model.structure->wet_nodes().empty();
+    const double stable = model.structure->stable_dt();
     model.dt = st.safety() * stable;
     if (st.has_dt()) {
         if (!(st.dt() > 0)) cf.fail("structure.dt", "time step must be positive");

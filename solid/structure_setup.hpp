@@ -1,7 +1,6 @@
 // From a case file to a structure model: the whole structure part of the case is checked first.
 #pragma once
-#include "solid/column_1d.hpp"
-#include "solid/plate_2d.hpp"
+#include "solid/structure.hpp"
 
 #include <memory>
 #include <utility>
@@ -15,13 +14,11 @@ namespace undex::solid {
 
 // The structure of a case: a 1D column (PLANAR_1D) or a 2D layered plate (PLANAR_2D, AXISYMMETRIC_2D).
 struct StructureModel {
-    std::unique_ptr<Column1D> column;
-    std::unique_ptr<Plate2D> plate;
-    LayeredPlate layout;             // the plate's structured mesh; the law of an element is its layer
+    std::unique_ptr<Structure> structure;
     std::vector<std::string> layers; // material name of each layer
     double dt = 0;                   // the time step: the forced one, or safety × the stable one
     int threads = 0;                 // structure.threads
-    bool wet = false;                // the front face is coupled to a fluid
+    bool wet = false;                // a face is coupled to a fluid
 };
 
 // A rigid plate per unit area (undex-rigid): m du/dt = p_I − back_pressure − k u − c du/dt.

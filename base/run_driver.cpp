@@ -1,0 +1,110 @@
+#include "base/run_driver.hpp"
+
+#include "base/signals.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ostream>
+
+namespace undex {
+
+std::string format(const char* fmt, double a, double b, double c, double d, double e) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, fmt, a, b, c, d, e);
+    return buf;
+}
+
+OutputClock::OutputClock(const RunPlan& plan, double start_time)
+    : times_(plan.output_times), end_time_(plan.end_time) {
+    while (next_ < times_.size() && times_[next_] <= start_time)
+        ++next_;
+}
+
+Step OutputClock::clip(double t, double dt) const {
+    if (!(dt > 0) || !std::isfinite(dt)) return {dt, false}; // refused by the driver, naming it
+    const double target = times_[next_];
+    if (t + dt >= target * (1 - 1e-12)) return {target - t, true};
+    return {dt, false};
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// One progress line: step, time, share of the end time, step size, wall time and the time left.
+void progress_line(std::ostream& log, const Run& run, const RunPlan& plan, double dt, double wall) {
+    const double frac = run.time() / plan.end_time;
+    log << "step " << run.steps()
+        << format("  t = %.4e s (%5.1f%%)  dt = %.3e s  wall %.1f s  left ~%.1f s", run.time(), 100 * frac,
+                  dt, wall, frac > 0 ? wall * (1 - frac) / frac : 0.0)
+        << run.progress() << std::endl;
+}
+
+// The steps of a run until its end; throws RunFailure or what the run throws.
+void step_to_end(Run& run, const RunPlan& plan, std::ostream& log, Clock::time_point start) {
+    OutputClock clock(plan, run.time());
+    auto last_progress = start;
+    for (;;) {
+        if (run.owns_clock() && clock.done(run.time())) break;
+        if (stop_requested()) throw RunFailure(exit_stopped, "stopped by a signal (SIGINT or SIGTERM)");
+        if (run.steps() >= plan.max_steps)
+            throw RunFailure(exit_method_failed,
+                             "stopped: numerics.max_steps = " + std::to_string(plan.max_steps) +
+                                 " reached at t = " + format("%.6g", run.time()) + " s");
+        const std::optional<Step> s = run.next_step(clock);
+        if (!s) break;
+        if (!(s->dt > 0) || !std::isfinite(s->dt))
+            throw RunFailure(exit_method_failed,
+                             "time step " + format("%g", s->dt) + " s is not positive and finite at t = " +
+                                 format("%.6g", run.time()) + " s, step " + std::to_string(run.steps()));
+        run.advance(*s);
+        if (run.steps() % plan.gauge_every == 0 || s->output) run.record();
+        if (s->output) {
+            run.write_output();
+            clock.passed();
+        }
+        const auto now = Clock::now();
+        if (std::chrono::duration<double>(now - last_progress).count() >= plan.progress_seconds ||
+            clock.done(run.time())) {
+            progress_line(log, run, plan, s->dt, std::chrono::duration<double>(now - start).count());
+            last_progress = now;
+        }
+    }
+    run.finish();
+}
+
+} // namespace
+
+int drive(Run& run, const RunPlan& plan, const std::string& name, std::ostream& log) {
+    const auto start = Clock::now();
+    std::string why;
+    int status = exit_complete;
+    try {
+        step_to_end(run, plan, log, start);
+    } catch (const RunFailure& f) {
+        why = f.what(), status = f.status;
+    } catch (const std::exception& e) {
+        if (!run.coupling_error(e)) throw;
+        why = std::string("coupling: ") + e.what();
+        status = stop_requested() ? exit_stopped : exit_coupling_failed;
+    }
+    if (status != exit_complete) {
+        run.fail(why);
+        log << name << ": error: " << why << "\n"
+            << name << ": the last good state (t = " << format("%.9g", run.time()) << " s, step "
+            << run.steps() << ") is in " << run.output_path() << std::endl;
+        return status;
+    }
+    run.complete();
+    const double wall = seconds_since(start);
+    log << name << ": done: " << run.steps() << " steps, wall " << format("%.3f", wall) << " s"
+        << run.summary(wall) << std::endl;
+    return exit_complete;
+}
+
+} // namespace undex

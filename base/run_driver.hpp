@@ -1,0 +1,98 @@
+// The run loop every solver executable shares (undex-fluid, undex-solid, undex-rigid): the output clock, the
+// end-of-run test, the progress line with its estimate of the time left, and the one way a run fails: the
+// partner told why, the last good state written and marked, a message naming it, an exit status.
+//
+// One step of a run, in this order (docs/architecture.md):
+//   1. end?      a side that owns the clock stops at end_time; a side that follows its partner's clock stops
+//                when the partner says so (next_step gives nothing)
+//   2. stop?     SIGINT or SIGTERM (base/signals.hpp), or numerics.max_steps reached
+//   3. next_step the side's largest step, cut to land on the next output time (OutputClock::clip); a
+//                coupled side agrees on it with its partner: Δt = min(Δt_f, Δt_s)
+//   4. advance   the step itself (a coupled side exchanges interface data here)
+//   5. record    gauges and energies every output.gauge_every steps and at every output
+//   6. output    fields at an output time
+//   7. progress  a line every output.progress_seconds and at the end
+#pragma once
+#include "base/run_plan.hpp"
+
+#include <iosfwd>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace undex {
+
+// Exit statuses of the solver executables.
+enum ExitStatus : int {
+    exit_complete = 0,
+    exit_bad_case = 1,      // or another error before the run started
+    exit_method_failed = 2, // a state the method cannot hold, or numerics.max_steps reached
+    exit_coupling_failed = 3,
+    exit_stopped = 4, // SIGINT or SIGTERM
+    exit_usage = 64,
+};
+
+// A failure that ends a run: what happened, and the exit status it gives.
+struct RunFailure : std::runtime_error {
+    RunFailure(int status, const std::string& what) : std::runtime_error(what), status(status) {}
+    int status;
+};
+
+struct Step {
+    double dt = 0;
+    bool output = false; // the step ends on an output time
+};
+
+// The plan's output times after the start of a run.
+class OutputClock {
+  public:
+    OutputClock(const RunPlan& plan, double start_time);
+    // Whether a run at time t has reached the end time.
+    bool done(double t) const { return !(t < end_time_ * (1 - 1e-14)); }
+    // A step of at most dt from t, shortened to end on the next output time when it reaches it (a dt that is
+    // not positive and finite is returned as it is, for the driver to refuse).
+    Step clip(double t, double dt) const;
+    void passed() { ++next_; }
+
+  private:
+    const std::vector<double>& times_;
+    double end_time_;
+    size_t next_ = 0;
+};
+
+// What a solver gives the driver.
+class Run {
+  public:
+    virtual ~Run() = default;
+    virtual double time() const = 0;
+    virtual long steps() const = 0;
+    // Whether this side stops at end_time itself (false: its partner's Stop ends the run).
+    virtual bool owns_clock() const { return true; }
+    // The next step (3. above); nothing when the partner ended the run. Throws RunFailure.
+    virtual std::optional<Step> next_step(const OutputClock& clock) = 0;
+    // Advances by exactly s.dt; throws RunFailure and then leaves the last good state in place.
+    virtual void advance(const Step& s) = 0;
+    virtual void record() = 0;
+    virtual void write_output() = 0;
+    // After the last step: tells the partner (if any) that the run is over.
+    virtual void finish() {}
+    // Writes what is left (histories) and marks the output complete.
+    virtual void complete() = 0;
+    // After a failure: tells the partner why (best effort), writes the last good state and marks the output
+    // failed with the message.
+    virtual void fail(const std::string& why) = 0;
+    virtual std::string output_path() const = 0;
+    // Appended to the progress line and to the closing line.
+    virtual std::string progress() const { return ""; }
+    virtual std::string summary(double /*wall_seconds*/) const { return ""; }
+    // Whether an exception from next_step/advance/finish is a coupling failure (exit status 3).
+    virtual bool coupling_error(const std::exception&) const { return false; }
+};
+
+// Runs to the end or to the first failure; returns the exit status. `name` prefixes the messages on log.
+int drive(Run& run, const RunPlan& plan, const std::string& name, std::ostream& log);
+
+// printf-style formatting of numbers for messages.
+std::string format(const char* fmt, double a, double b = 0, double c = 0, double d = 0, double e = 0);
+
+} // namespace undex
