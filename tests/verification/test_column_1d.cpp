@@ -136,3 +136,44 @@ TEST(Column1D, InversionAndBadLayers) {
     EXPECT_THROW(Column1D({{steel, 0.0, 10}}, Kinematics1D::UniaxialStress), MaterialError);
     EXPECT_THROW(Column1D({{steel, 0.01, 0}}, Kinematics1D::UniaxialStress), MaterialError);
 }
+
+// A fluid on the back face is the mirror image of a fluid on the front: a uniform column wetted at its back
+// by a fluid state must move as the same column wetted at its front, mirrored (velocities and displacements
+// change sign, pressures do not). Through the Structure interface, as the run loop drives it. Tolerance: the
+// two runs sum the same forces in opposite node order, so they agree to round-off (1e-9 relative).
+TEST(Column1D, BackFaceFluidMirrorsTheFrontFace) {
+    auto steel = std::make_shared<Elastic>(rho, E, nu);
+    Column1D front({{steel, 0.01, 20}}, Kinematics1D::UniaxialStrain);
+    Column1D back({{steel, 0.01, 20}}, Kinematics1D::UniaxialStrain);
+    front.set_wet(0);
+    back.set_wet(1);
+    Structure& f = front;
+    Structure& b = back;
+    ASSERT_EQ(f.wet_nodes().size(), 1u);
+    ASSERT_EQ(b.wet_nodes().size(), 1u);
+    EXPECT_EQ(f.wet_nodes()[0].normal_x, 1.0);
+    EXPECT_EQ(b.wet_nodes()[0].normal_x, -1.0);
+    EXPECT_NEAR(b.wet_nodes()[0].x, 0.01, 1e-15); // the back face, at the column's thickness
+    const double Z = 1000 * 1500, dt = 0.5 * front.stable_dt();
+    const size_t last = back.nodes() - 1;
+    for (int n = 0; n < 400; ++n) {
+        // An incoming compression wave in the fluid: the normal velocity u_L points into the structure.
+        const FluidCharacteristic fc{1e7, 2.0, Z, 0.0, -1e5};
+        const auto wf = f.step(dt, std::span(&fc, 1));
+        const auto wb = b.step(dt, std::span(&fc, 1));
+        ASSERT_EQ(wf.size(), 1u);
+        ASSERT_NEAR(wb[0].p_I, wf[0].p_I, 1e-9 * std::abs(wf[0].p_I));
+        ASSERT_NEAR(wb[0].u_I, wf[0].u_I, 1e-9 * std::abs(wf[0].u_I) + 1e-15);
+        ASSERT_NEAR(back.velocity(last), -front.velocity(0), 1e-9 * std::abs(front.velocity(0)) + 1e-15);
+        ASSERT_NEAR(back.displacement(last), -front.displacement(0),
+                    1e-9 * std::abs(front.displacement(0)) + 1e-18);
+        ASSERT_NEAR(b.wet_nodes()[0].velocity, f.wet_nodes()[0].velocity,
+                    1e-9 * std::abs(f.wet_nodes()[0].velocity) + 1e-15);
+    }
+    EXPECT_GT(front.velocity(0), 0.1); // the front face was pushed into the column
+    // The external work of the fluid is the same on both faces and closes the energy balance.
+    EXPECT_NEAR(back.energies().external, front.energies().external, 1e-9 * front.energies().external);
+    EXPECT_LT(std::abs(back.energies().balance_error()), 1e-3 * back.energies().external);
+    // The number of fluid states must match the wet nodes.
+    EXPECT_THROW(f.step(dt, {}), std::invalid_argument);
+}

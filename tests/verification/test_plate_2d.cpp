@@ -360,3 +360,38 @@ TEST(Plate2D, HourglassStiffnessGivesExactBendingOfARectangle) {
             EXPECT_NEAR(plate.energies().hourglass, exact, 1e-6 * exact);
         }
 }
+
+// The wet nodes of a plate's faces (what the 2D coupling hands to the fluid): every node of the face once,
+// the normal from the fluid into the plate, areas that sum to the face's measure. References in closed form:
+// plane strain, the span L per unit depth; axisymmetry, ∫ r dr = (r₁² − r₀²) / 2 per radian.
+TEST(Plate2D, WetNodesOfAFaceCoverItWithInwardNormals) {
+    const double x0 = 0.1, L = 0.3, h = 0.01;
+    const int nx = 12;
+    for (const Plane plane : {Plane::Strain, Plane::Axisymmetric}) {
+        const LayeredPlate lp = layered_plate(x0, L, nx, {h}, {2});
+        Plate2D plate(lp.mesh, {steel()}, plane);
+        std::vector<std::array<int, 2>> front, back; // counter-clockwise: left to right in front, back reversed
+        for (int i = 0; i < nx; ++i) {
+            front.push_back({lp.node(i, 0), lp.node(i + 1, 0)});
+            back.push_back({lp.node(i + 1, lp.ny), lp.node(i, lp.ny)});
+        }
+        plate.add_wet_face(front);
+        plate.add_wet_face(back);
+        const Structure& s = plate;
+        const auto w = s.wet_nodes();
+        ASSERT_EQ(w.size(), 2u * (nx + 1));
+        double front_area = 0, back_area = 0;
+        for (size_t k = 0; k < w.size(); ++k) {
+            const bool is_front = k <= static_cast<size_t>(nx);
+            EXPECT_DOUBLE_EQ(w[k].normal_x, 0.0);
+            EXPECT_DOUBLE_EQ(w[k].normal_y, is_front ? 1.0 : -1.0);
+            EXPECT_DOUBLE_EQ(w[k].y, is_front ? 0.0 : h);
+            (is_front ? front_area : back_area) += w[k].area;
+        }
+        const double expected = plane == Plane::Strain ? L : 0.5 * ((x0 + L) * (x0 + L) - x0 * x0);
+        EXPECT_NEAR(front_area, expected, 1e-14 * expected);
+        EXPECT_NEAR(back_area, expected, 1e-14 * expected);
+        // An end node carries half an element in plane strain.
+        if (plane == Plane::Strain) EXPECT_NEAR(w[0].area, 0.5 * L / nx, 1e-15);
+    }
+}
