@@ -45,6 +45,8 @@ RunPlan plan(const CaseFile& cf) {
     p.gauge_every = c.output().gauge_every();
     p.threads = c.numerics().threads();
     p.max_steps = c.numerics().max_steps();
+    p.coupling_timeout_ms = static_cast<int>(1000 * c.coupling().timeout());
+    p.handshake_timeout_ms = static_cast<int>(1000 * c.coupling().handshake_timeout());
     for (const auto& g : c.gauges())
         p.gauges.push_back({g.name(), g.x(), g.y()});
     return p;

@@ -25,6 +25,8 @@ struct RunPlan {
     int threads = 0;
     long max_steps = 0;
     std::vector<GaugePoint> gauges;
+    int coupling_timeout_ms = 0;  // coupling.timeout: the longest wait for the partner during the run
+    int handshake_timeout_ms = 0; // coupling.handshake_timeout
 };
 
 // Whether the case holds a fluid (regions, domain, boundaries or fluid materials) and whether it holds a

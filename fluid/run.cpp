@@ -27,15 +27,11 @@ bool coupled_case(const CaseFile& c) {
 // The structure at x_max, through the coupling library: its interface node sits at x_max (physics.md §5).
 class StructureLink {
   public:
-    StructureLink(const CaseFile& c, const std::string& endpoint, const Mesh& m, double end_time,
-                  std::ostream& log) {
-        coupling::Options o;
-        o.endpoint = endpoint;
-        o.timeout_ms = static_cast<int>(1000 * c.get().coupling().timeout());
-        o.handshake_timeout_ms = static_cast<int>(1000 * c.get().coupling().handshake_timeout());
+    StructureLink(const RunPlan& p, const std::string& endpoint, const Mesh& m, std::ostream& log) {
+        const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms};
         link_ = std::make_unique<coupling::FluidParticipant>(o, "undex-fluid", "0.1.0");
         log << "undex-fluid: waiting for the structure solver on " << link_->endpoint() << std::endl;
-        const auto iface = link_->initialize(1, m.alpha, end_time);
+        const auto iface = link_->initialize(1, m.alpha, p.end_time);
         if (iface.size() != 1)
             refuse("the structure solver (" + link_->peer_solver() + ") has " + std::to_string(iface.size()) +
                    " interface nodes; a 1D fluid couples to one");
@@ -188,7 +184,7 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
     if (m.dim == 2) log << " x " << m.ny;
     log << " cells, degree " << solver->degree() << ", " << threads << " thread(s), end time " << p.end_time
         << " s, output " << p.directory << "/fluid.h5" << std::endl;
-    auto link = coupled ? std::make_unique<StructureLink>(c, couple, m, p.end_time, log) : nullptr;
+    auto link = coupled ? std::make_unique<StructureLink>(p, couple, m, log) : nullptr;
     FluidRun r(c, p, std::move(solver), std::move(link));
     return drive(r, p, "undex-fluid", log);
 }

@@ -123,10 +123,7 @@ int run_rigid(const CaseFile& c, const std::string& couple) {
     const auto plan = undex::plan(c);
     std::cout << "undex-rigid: " << c.path() << ": rigid plate, " << m.mass_per_area << " kg/m², output "
               << plan.directory << "/solid.h5" << std::endl;
-    coupling::Options o;
-    o.endpoint = couple;
-    o.timeout_ms = static_cast<int>(1000 * c.get().coupling().timeout());
-    o.handshake_timeout_ms = static_cast<int>(1000 * c.get().coupling().handshake_timeout());
+    const coupling::Options o{couple, plan.coupling_timeout_ms, plan.handshake_timeout_ms};
     auto link = std::make_unique<coupling::StructureParticipant>(o, "undex-rigid", "0.1.0");
     coupling::Interface i;
     i.x = {0.0}, i.y = {0.0}, i.normal_x = {1.0}, i.normal_y = {0.0}, i.area = {1.0};

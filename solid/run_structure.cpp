@@ -187,12 +187,9 @@ class StructureOutput {
 };
 
 // The fluid, when a face is wet, through the coupling library.
-std::unique_ptr<coupling::StructureParticipant> connect(const CaseFile& c, const std::string& endpoint,
+std::unique_ptr<coupling::StructureParticipant> connect(const RunPlan& p, const std::string& endpoint,
                                                         const Structure& s, std::ostream& log) {
-    coupling::Options o;
-    o.endpoint = endpoint;
-    o.timeout_ms = static_cast<int>(1000 * c.get().coupling().timeout());
-    o.handshake_timeout_ms = static_cast<int>(1000 * c.get().coupling().handshake_timeout());
+    const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms};
     auto link = std::make_unique<coupling::StructureParticipant>(o, "undex-solid", "0.1.0");
     coupling::Interface i;
     for (const WetNode& n : s.wet_nodes()) {
@@ -312,7 +309,7 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
     log << "undex-solid: " << c.path() << ": " << model.structure->description() << ", " << threads
         << " thread(s), time step " << format("%.4g", model.dt) << " s, end time " << p.end_time
         << " s, output " << p.directory << "/solid.h5" << std::endl;
-    auto link = model.wet ? connect(c, couple, *model.structure, log) : nullptr;
+    auto link = model.wet ? connect(p, couple, *model.structure, log) : nullptr;
     StructureRun r(c, p, model, std::move(link));
     return drive(r, p, "undex-solid", log);
 }

@@ -392,6 +392,8 @@ TEST(Plate2D, WetNodesOfAFaceCoverItWithInwardNormals) {
         EXPECT_NEAR(front_area, expected, 1e-14 * expected);
         EXPECT_NEAR(back_area, expected, 1e-14 * expected);
         // An end node carries half an element in plane strain.
-        if (plane == Plane::Strain) EXPECT_NEAR(w[0].area, 0.5 * L / nx, 1e-15);
+        if (plane == Plane::Strain) {
+            EXPECT_NEAR(w[0].area, 0.5 * L / nx, 1e-15);
+        }
     }
 }
