@@ -214,7 +214,11 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::cerr << "undex: error: " << e.what() << "\n" << hint << "\n";
+        const auto named = [&](CLI::App* s) { return s->check_name(argv[1]); };
+        if (argc > 1 && argv[1][0] != '-' && app.get_subcommands(named).empty())
+            std::cerr << "undex: error: unknown command '" << argv[1] << "'\n" << hint << "\n";
+        else
+            std::cerr << "undex: error: " << e.what() << "\n" << hint << "\n";
         return 64;
     }
     try {

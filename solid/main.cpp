@@ -33,7 +33,8 @@ std::string describe(const undex::solid::StructureModel& s) {
 
 // "CASE: ok: structure of ...", with the end time when the structure runs alone.
 int check(const undex::CaseFile& c) {
-    std::cout << c.path() << ": ok: " << describe(undex::solid::make_structure(c));
+    const std::string summary = describe(undex::solid::make_structure(c)); // before any output: it may throw
+    std::cout << c.path() << ": ok: " << summary;
     if (!undex::has_fluid(c)) std::cout << ", end time " << c.get().end_time() << " s";
     std::cout << "\n";
     return 0;
