@@ -143,164 +143,204 @@ Envelope grant(std::int64_t n, int nodes, double dt, double time, double p_L) {
     return g;
 }
 
+// The solver processes of one conformance check: each gets a fresh endpoint and a log of its own.
+struct Sessions {
+    std::vector<std::string> command;
+    std::filesystem::path dir;
+    double timeout; // seconds
+    int n = 0;
+    int ms() const { return static_cast<int>(timeout * 1000); }
+    std::string next_endpoint() { return "ipc://" + (dir / ("s" + std::to_string(++n) + ".ipc")).string(); }
+    std::string log() const { return (dir / ("solver-" + std::to_string(n) + ".log")).string(); }
+};
+
+// What a solver got wrong during the full run, per kind of message.
+struct RunProblems {
+    std::string offer, answer, sign;
+    int bad_answers = 0; // answers that break the interface condition
+};
+
+constexpr int full_run_steps = 30;
+
+// The Offer of step from a solver of n interface nodes.
+void check_offer(const wire::Offer& of, int step, int n, RunProblems& p) {
+    if (!(of.dt() > 0) || !std::isfinite(of.dt()))
+        p.offer += "step " + std::to_string(step) + ": dt_s not positive and finite; ";
+    if (of.x_size() != n || of.y_size() != n || of.velocity_size() != n)
+        p.offer += "step " + std::to_string(step) + ": not one x, y, velocity per node; ";
+    else if (!finite_all(of.x()) || !finite_all(of.velocity()))
+        p.offer += "step " + std::to_string(step) + ": non-finite values; ";
+}
+
+// The Answer of step to a Grant of p_L on each of the n nodes (u_L = geometric = 0, Z_L = 1.5e6); false when
+// it does not hold one value per node.
+bool check_answer(const wire::Answer& an, int step, int n, double p_L, RunProblems& p) {
+    if (an.p_i_size() != n || an.u_i_size() != n || an.x_size() != n || an.y_size() != n) {
+        p.answer += "step " + std::to_string(step) + ": not one p_I, u_I, x, y per node; ";
+        return false;
+    }
+    for (int k = 0; k < n; ++k) {
+        const double pi = an.p_i(k), u = an.u_i(k);
+        if (!std::isfinite(pi) || !std::isfinite(u) || !std::isfinite(an.x(k)) || !std::isfinite(an.y(k))) {
+            p.answer += "step " + std::to_string(step) + ": non-finite p_I, u_I, x or y; ";
+            return true;
+        }
+        if (pi < 2338) p.answer += "step " + std::to_string(step) + ": p_I below p_floor; ";
+        // The interface condition p_I = p_L − Z (u_I − u_L) − geometric (u_L = geometric = 0).
+        const double expect = p_L - 1.5e6 * u;
+        if (pi > 2338 * (1 + 1e-9) &&
+            std::abs(pi - expect) > 1e-6 * std::max(std::abs(p_L), 1.5e6 * std::abs(u)) + 1e-3) {
+            if (p.bad_answers++ == 0) {
+                std::ostringstream m;
+                m << "step " << step << ", node " << k << ": p_I = " << pi
+                  << " Pa but p_L − Z_L (u_I − u_L) = " << expect << " Pa";
+                p.answer += m.str();
+            }
+            return true;
+        }
+    }
+    return true;
+}
+
+// The handshake: the number of interface nodes of a good Hello, or -1 (the failed check reported).
+int handshake(Channel& c, Report& r) {
+    Envelope h;
+    try {
+        h = c.receive(0, Envelope::kHello);
+    } catch (const CouplingError& e) {
+        r.check(false, "sends a Hello after connecting", e.what());
+        return -1;
+    }
+    const std::string hp = hello_problems(h);
+    r.check(hp.empty(), "Hello: dimension, alpha, one position, unit normal and positive area per node", hp);
+    if (!hp.empty()) return -1;
+    Envelope w = welcome();
+    c.send(w);
+    return h.hello().x_size();
+}
+
+// The steps of the full run: 30, the last 20 under a 2 MPa pulse. Throws CouplingError.
+RunProblems run_steps(Channel& c, int n) {
+    RunProblems p;
+    double time = 0, u_last = 0;
+    for (int step = 1; step <= full_run_steps; ++step) {
+        const Envelope o = c.receive(step, Envelope::kOffer);
+        if (o.has_stop()) {
+            p.offer = "it sent Stop at step " + std::to_string(step);
+            break;
+        }
+        check_offer(o.offer(), step, n, p);
+        const double dt = std::min(o.offer().dt() > 0 ? o.offer().dt() : 1e-7, 1e-7);
+        const double p_L = step > 10 ? 2e6 : 1e5; // a 2 MPa pulse from step 11
+        Envelope g = grant(step, n, dt, time, p_L);
+        c.send(g);
+        const Envelope a = c.receive(step, Envelope::kAnswer);
+        if (a.has_stop()) {
+            p.answer = "it sent Stop instead of the Answer of step " + std::to_string(step);
+            break;
+        }
+        if (!check_answer(a.answer(), step, n, p_L, p)) continue;
+        u_last = a.answer().u_i(0);
+        time += dt;
+    }
+    if (p.offer.empty() && p.answer.find("Stop") == std::string::npos && !(u_last > 0))
+        p.sign = "after 20 steps of 2 MPa on the wet face u_I = " + std::to_string(u_last) +
+                 " m/s: pressure must push the structure along n (from the fluid into it)";
+    if (p.bad_answers > 1) p.answer += " (and in " + std::to_string(p.bad_answers - 1) + " more answers)";
+    return p;
+}
+
+// 1. A full run: handshake, 30 steps (the last 20 under a pressure pulse), Stop. False when the solver did
+// not get through the handshake (the other checks would tell nothing more).
+bool check_full_run(Sessions& s, Report& r) {
+    Channel c(s.next_endpoint(), Channel::Role::Bind, "the solver", s.ms());
+    Subject solver(s.command, c.endpoint(), s.log());
+    const int n = handshake(c, r);
+    if (n < 0) return false;
+    try {
+        const RunProblems p = run_steps(c, n);
+        r.check(p.offer.empty(), "Offers: steps numbered 1, 2, ...; dt_s > 0; one value per node", p.offer);
+        r.check(p.answer.empty(),
+                "Answers: one finite p_I, u_I, x, y per node; p_I ≥ p_floor; p_I = p_L − Z_L (u_I − u_L) "
+                "− geometric",
+                p.answer);
+        r.check(p.sign.empty(), "sign convention: pressure pushes the structure along n", p.sign);
+        // After the last step the solver offers the next one and gets Stop.
+        c.receive(full_run_steps + 1, Envelope::kOffer);
+        Envelope stop;
+        stop.set_step(full_run_steps + 1);
+        stop.mutable_stop()->set_reason("end of the conformance run");
+        c.send(stop);
+        const int code = solver.wait(s.timeout);
+        r.check(code == 0, "ends with exit status 0 on Stop",
+                code < 0 ? "still running " + std::to_string(int(s.timeout)) + " s after Stop"
+                         : "exit status " + std::to_string(code));
+    } catch (const CouplingError& e) {
+        r.check(false, "keeps to the sequence Offer → Grant → Answer for 30 steps and ends on Stop",
+                e.what());
+    }
+    return true;
+}
+
+// 2.–4. A bad message from the fluid: the solver must stop with a non-zero status within its timeout.
+struct Bad {
+    const char* what;
+    int kind; // 0 garbage, 1 wrong version, 2 wrong message
+};
+
+void send_bad(Channel& c, const Bad& b) {
+    c.receive(0, Envelope::kHello);
+    if (b.kind == 0) {
+        c.send_raw(std::string("\xff\x00 not a coupling envelope", 27));
+    } else if (b.kind == 1) {
+        Envelope w = welcome();
+        c.send_version(w, 99);
+    } else {
+        Envelope w = welcome();
+        c.send(w);
+        c.receive(1, Envelope::kOffer);
+        Envelope again = welcome();
+        again.set_step(1);
+        c.send(again);
+    }
+}
+
+void check_bad_message(Sessions& s, const Bad& b, Report& r) {
+    Channel c(s.next_endpoint(), Channel::Role::Bind, "the solver", s.ms());
+    Subject solver(s.command, c.endpoint(), s.log());
+    try {
+        send_bad(c, b);
+    } catch (const CouplingError& e) {
+        r.check(false, std::string("stops on ") + b.what,
+                std::string("the run did not get that far: ") + e.what());
+        return;
+    }
+    const int code = solver.wait(s.timeout + 5);
+    r.check(code > 0, std::string("stops with a non-zero status on ") + b.what,
+            code == 0 ? "exit status 0" : "still running " + std::to_string(int(s.timeout + 5)) + " s later");
+}
+
 } // namespace
 
 int conform(const std::vector<std::string>& command, double timeout) {
     if (command.empty()) throw std::invalid_argument("conform needs a COMMAND after --");
-    const auto dir = std::filesystem::temp_directory_path() / ("undex-conform-" + std::to_string(getpid()));
-    std::filesystem::create_directories(dir);
-    const int ms = static_cast<int>(timeout * 1000);
-    Report r;
-    int session = 0;
-    auto endpoint = [&] { return "ipc://" + (dir / ("s" + std::to_string(++session) + ".ipc")).string(); };
-    auto log = [&] { return (dir / ("solver-" + std::to_string(session) + ".log")).string(); };
+    Sessions s{command,
+               std::filesystem::temp_directory_path() / ("undex-conform-" + std::to_string(getpid())),
+               timeout};
+    std::filesystem::create_directories(s.dir);
     std::cout << "undex conform: checking '";
     for (size_t k = 0; k < command.size(); ++k)
         std::cout << (k ? " " : "") << command[k];
-    std::cout << " --couple ENDPOINT'; its output: " << dir.string() << "/solver-*.log" << std::endl;
-
-    // 1. A full run: handshake, 30 steps (the last 20 under a pressure pulse), Stop.
-    {
-        Channel c(endpoint(), Channel::Role::Bind, "the solver", ms);
-        Subject s(command, c.endpoint(), log());
-        Envelope h;
-        try {
-            h = c.receive(0, Envelope::kHello);
-        } catch (const CouplingError& e) {
-            r.check(false, "sends a Hello after connecting", e.what());
-            std::cout << "undex conform: " << r.failed << " check(s) failed" << std::endl;
-            return r.failed;
-        }
-        const std::string hp = hello_problems(h);
-        r.check(hp.empty(), "Hello: dimension, alpha, one position, unit normal and positive area per node",
-                hp);
-        if (!hp.empty()) {
-            std::cout << "undex conform: " << r.failed << " check(s) failed" << std::endl;
-            return r.failed;
-        }
-        const int n = h.hello().x_size();
-        Envelope w = welcome();
-        c.send(w);
-        double time = 0, u_last = 0;
-        std::string offer_problem, answer_problem, sign_problem;
-        int answer_problems = 0;
-        const int steps = 30;
-        try {
-            for (int step = 1; step <= steps; ++step) {
-                const Envelope o = c.receive(step, Envelope::kOffer);
-                if (o.has_stop()) {
-                    offer_problem = "it sent Stop at step " + std::to_string(step);
-                    break;
-                }
-                const auto& of = o.offer();
-                if (!(of.dt() > 0) || !std::isfinite(of.dt()))
-                    offer_problem += "step " + std::to_string(step) + ": dt_s not positive and finite; ";
-                if (of.x_size() != n || of.y_size() != n || of.velocity_size() != n)
-                    offer_problem += "step " + std::to_string(step) + ": not one x, y, velocity per node; ";
-                else if (!finite_all(of.x()) || !finite_all(of.velocity()))
-                    offer_problem += "step " + std::to_string(step) + ": non-finite values; ";
-                const double dt = std::min(of.dt() > 0 ? of.dt() : 1e-7, 1e-7);
-                const double p_L = step > 10 ? 2e6 : 1e5; // a 2 MPa pulse from step 11
-                Envelope g = grant(step, n, dt, time, p_L);
-                c.send(g);
-                const Envelope a = c.receive(step, Envelope::kAnswer);
-                if (a.has_stop()) {
-                    answer_problem = "it sent Stop instead of the Answer of step " + std::to_string(step);
-                    break;
-                }
-                const auto& an = a.answer();
-                if (an.p_i_size() != n || an.u_i_size() != n || an.x_size() != n || an.y_size() != n) {
-                    answer_problem += "step " + std::to_string(step) + ": not one p_I, u_I, x, y per node; ";
-                    continue;
-                }
-                for (int k = 0; k < n; ++k) {
-                    const double p = an.p_i(k), u = an.u_i(k);
-                    if (!std::isfinite(p) || !std::isfinite(u) || !std::isfinite(an.x(k)) ||
-                        !std::isfinite(an.y(k))) {
-                        answer_problem += "step " + std::to_string(step) + ": non-finite p_I, u_I, x or y; ";
-                        break;
-                    }
-                    if (p < 2338) answer_problem += "step " + std::to_string(step) + ": p_I below p_floor; ";
-                    // The interface condition p_I = p_L − Z (u_I − u_L) − geometric (u_L = geometric = 0).
-                    const double expect = p_L - 1.5e6 * u;
-                    if (p > 2338 * (1 + 1e-9) &&
-                        std::abs(p - expect) > 1e-6 * std::max(std::abs(p_L), 1.5e6 * std::abs(u)) + 1e-3) {
-                        if (answer_problems++ == 0) {
-                            std::ostringstream m;
-                            m << "step " << step << ", node " << k << ": p_I = " << p
-                              << " Pa but p_L − Z_L (u_I − u_L) = " << expect << " Pa";
-                            answer_problem += m.str();
-                        }
-                        break;
-                    }
-                }
-                u_last = an.u_i(0);
-                time += dt;
-            }
-            if (offer_problem.empty() && answer_problem.find("Stop") == std::string::npos && !(u_last > 0))
-                sign_problem = "after 20 steps of 2 MPa on the wet face u_I = " + std::to_string(u_last) +
-                               " m/s: pressure must push the structure along n (from the fluid into it)";
-            r.check(offer_problem.empty(), "Offers: steps numbered 1, 2, ...; dt_s > 0; one value per node",
-                    offer_problem);
-            if (answer_problems > 1)
-                answer_problem += " (and in " + std::to_string(answer_problems - 1) + " more answers)";
-            r.check(answer_problem.empty(),
-                    "Answers: one finite p_I, u_I, x, y per node; p_I ≥ p_floor; p_I = p_L − Z_L (u_I − u_L) "
-                    "− geometric",
-                    answer_problem);
-            r.check(sign_problem.empty(), "sign convention: pressure pushes the structure along n",
-                    sign_problem);
-            // After the last step the solver offers the next one and gets Stop.
-            c.receive(steps + 1, Envelope::kOffer);
-            Envelope stop;
-            stop.set_step(steps + 1);
-            stop.mutable_stop()->set_reason("end of the conformance run");
-            c.send(stop);
-            const int code = s.wait(timeout);
-            r.check(code == 0, "ends with exit status 0 on Stop",
-                    code < 0 ? "still running " + std::to_string(int(timeout)) + " s after Stop"
-                             : "exit status " + std::to_string(code));
-        } catch (const CouplingError& e) {
-            r.check(false, "keeps to the sequence Offer → Grant → Answer for 30 steps and ends on Stop",
-                    e.what());
-        }
+    std::cout << " --couple ENDPOINT'; its output: " << s.dir.string() << "/solver-*.log" << std::endl;
+    Report r;
+    if (!check_full_run(s, r)) {
+        std::cout << "undex conform: " << r.failed << " check(s) failed" << std::endl;
+        return r.failed;
     }
-
-    // 2.–4. Bad messages from the fluid: the solver must stop with a non-zero status within its timeout.
-    struct Bad {
-        const char* what;
-        int kind; // 0 garbage, 1 wrong version, 2 wrong message
-    };
     for (const Bad& b :
          {Bad{"garbage bytes instead of the Welcome", 0}, Bad{"a Welcome of protocol version 99", 1},
-          Bad{"a Welcome where the Grant of step 1 is due", 2}}) {
-        Channel c(endpoint(), Channel::Role::Bind, "the solver", ms);
-        Subject s(command, c.endpoint(), log());
-        try {
-            c.receive(0, Envelope::kHello);
-            if (b.kind == 0) {
-                c.send_raw(std::string("\xff\x00 not a coupling envelope", 27));
-            } else if (b.kind == 1) {
-                Envelope w = welcome();
-                c.send_version(w, 99);
-            } else {
-                Envelope w = welcome();
-                c.send(w);
-                c.receive(1, Envelope::kOffer);
-                Envelope again = welcome();
-                again.set_step(1);
-                c.send(again);
-            }
-        } catch (const CouplingError& e) {
-            r.check(false, std::string("stops on ") + b.what,
-                    std::string("the run did not get that far: ") + e.what());
-            continue;
-        }
-        const int code = s.wait(timeout + 5);
-        r.check(code > 0, std::string("stops with a non-zero status on ") + b.what,
-                code == 0 ? "exit status 0"
-                          : "still running " + std::to_string(int(timeout + 5)) + " s later");
-    }
+          Bad{"a Welcome where the Grant of step 1 is due", 2}})
+        check_bad_message(s, b, r);
     std::cout << "undex conform: "
               << (r.failed ? std::to_string(r.failed) + " check(s) failed" : "conforming") << std::endl;
     return r.failed;

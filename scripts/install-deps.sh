@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(cmake g++ make pkg-config libzmq3-dev cppzmq-dev libeigen3-dev libhdf5-dev libprotobuf-dev
           protobuf-compiler libgtest-dev python3 python3-numpy python3-h5py python3-matplotlib
-          python3-zmq python3-protobuf)
+          python3-zmq python3-protobuf libcli11-dev)
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,124 @@
+// The solvers' command line (base/solver_cli.hpp), parsed with CLI11.
+#include "base/solver_cli.hpp"
+
+#include "base/case_file.hpp"
+#include "base/signals.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <limits>
+
+namespace undex {
+
+std::string output_override(const std::string& directory) {
+    return "output.directory=" + directory;
+}
+
+namespace {
+
+// What the command line asked for.
+struct Request {
+    std::string case_path, couple, output;
+    std::vector<std::string> sets;
+    bool check = false, options = false;
+    SampleRequest sample;
+    bool sampling = false;
+    std::vector<std::string> overrides() const {
+        auto o = sets;
+        if (!output.empty()) o.push_back(output_override(output));
+        return o;
+    }
+};
+
+// The options of the --sample mode (undex-fluid).
+void add_sample_options(CLI::App& app, Request& r) {
+    auto* s = app.add_option("--sample", r.sample.directory,
+                             "print fields of the output in DIR (or an .h5 file) along a line as CSV")
+                  ->type_name("DIR");
+    app.add_option("--time", r.sample.time, "the output time nearest to T is sampled")
+        ->type_name("T")
+        ->needs(s);
+    app.add_option("--line", r.sample.line, "the line from (x0,y0) to (x1,y1)")
+        ->type_name("\"x0,y0 x1,y1\"")
+        ->needs(s);
+    app.add_option("--points", r.sample.points, "number of points on the line, its ends included")
+        ->type_name("N")
+        ->needs(s);
+    app.add_option("--fields", r.sample.fields, "the fields printed (default: rho,u,v,p)")
+        ->type_name("rho,u,v,p")
+        ->delimiter(',')
+        ->needs(s);
+}
+
+// The command line of c; request is filled by CLI11's parse.
+void describe(CLI::App& app, const SolverCommands& c, Request& r) {
+    auto* case_opt =
+        app.add_option("CASE", r.case_path, "the case file (text format or JSON of proto/case.proto)");
+    app.add_option("--set", r.sets, "override a scalar of the case, e.g. numerics.cfl=0.4 (repeatable)")
+        ->type_name("KEY=VALUE")
+        ->allow_extra_args(false);
+    app.add_option("-o,--output", r.output, "the output directory (the override output.directory=DIR)")
+        ->type_name("DIR");
+    auto* couple = app.add_option("--couple", r.couple, "couple to the other solver through ENDPOINT")
+                       ->type_name("ENDPOINT");
+    if (c.check)
+        app.add_flag("--check", r.check, "check this solver's part of CASE, print a summary, write nothing")
+            ->excludes(couple);
+    if (c.options)
+        app.add_flag("--options", r.options, "list the named choices of a case file")->excludes(case_opt);
+    if (c.sample) {
+        add_sample_options(app, r);
+        app.get_option("--sample")->excludes(case_opt)->excludes(couple);
+    }
+}
+
+int dispatch(const SolverCommands& c, Request& r) {
+    if (r.options) return c.options();
+    if (!r.sample.directory.empty()) {
+        if (r.sample.line.empty() || r.sample.points == 0 || r.sample.time != r.sample.time)
+            throw UsageError("--sample needs --time, --line and --points");
+        return c.sample(r.sample);
+    }
+    if (r.case_path.empty()) throw UsageError("CASE is required");
+    if (r.check) return c.check(CaseFile::load(r.case_path, r.overrides()));
+    install_stop_handler();
+    return c.run(CaseFile::load(r.case_path, r.overrides()), r.couple);
+}
+
+} // namespace
+
+int solver_main(int argc, char** argv, const SolverCommands& c) {
+    CLI::App app(c.description, c.name);
+    Request r;
+    r.sample.time = std::numeric_limits<double>::quiet_NaN(); // --time not given
+    describe(app, c, r);
+    const std::string hint = "run '" + c.name + " --help' for the command line";
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << c.name << ": error: " << e.what() << "\n" << hint << "\n";
+        return 64;
+    }
+    try {
+        return dispatch(c, r);
+    } catch (const UsageError& e) {
+        std::cerr << c.name << ": error: " << e.what() << "\n" << hint << "\n";
+        return 64;
+    } catch (const CaseError& e) {
+        std::cerr << c.name << ": error: " << e.what() << "\n";
+        return 1;
+    } catch (const std::exception& e) {
+        for (const auto& f : c.failures)
+            if (f.matches(e)) {
+                std::cerr << c.name << ": error: " << f.prefix << e.what() << "\n";
+                return f.status;
+            }
+        std::cerr << c.name << ": error: " << e.what() << "\n";
+        return 1;
+    }
+}
+
+} // namespace undex

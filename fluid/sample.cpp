@@ -1,0 +1,92 @@
+// undex-fluid --sample (fluid/sample.hpp).
+#include "fluid/sample.hpp"
+
+#include "base/case_file.hpp"
+#include "base/h5.hpp"
+#include "fluid/output.hpp"
+#include "fluid/setup.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace undex::fluid {
+
+namespace {
+
+// The fluid.h5 of an output directory (or the file given).
+std::string fluid_h5(const std::string& dir) {
+    const std::filesystem::path p(dir);
+    if (!std::filesystem::is_directory(p)) return dir;
+    // A structure-only run has solid.h5 and no fluid.h5.
+    if (!std::filesystem::exists(p / "fluid.h5") && std::filesystem::exists(p / "solid.h5"))
+        return (p / "solid.h5").string();
+    return (p / "fluid.h5").string();
+}
+
+std::vector<double> parse_point(const std::string& s) {
+    std::vector<double> v;
+    std::stringstream ss(s);
+    std::string part;
+    try {
+        while (std::getline(ss, part, ','))
+            v.push_back(std::stod(part));
+    } catch (const std::logic_error&) {
+        throw UsageError("a point is x,y (got '" + s + "')");
+    }
+    if (v.size() == 1) v.push_back(0.0);
+    if (v.size() != 2) throw UsageError("a point is x,y (got '" + s + "')");
+    return v;
+}
+
+std::vector<std::string> checked_fields(const std::vector<std::string>& asked) {
+    if (asked.empty()) return {"rho", "u", "v", "p"};
+    for (const auto& f : asked)
+        if (f != "rho" && f != "u" && f != "v" && f != "p")
+            throw UsageError("unknown field '" + f + "' (fields: rho, u, v, p)");
+    return asked;
+}
+
+} // namespace
+
+int sample(const SampleRequest& r, std::FILE* out) {
+    std::stringstream line(r.line);
+    std::string p0s, p1s;
+    line >> p0s >> p1s;
+    const auto p0 = parse_point(p0s), p1 = parse_point(p1s);
+    const int n = r.points;
+    if (n < 1) throw UsageError("--points must be ≥ 1");
+    const auto fields = checked_fields(r.fields);
+    const std::string h5 = fluid_h5(r.directory);
+    if (std::filesystem::path(h5).filename() == "solid.h5")
+        throw std::runtime_error(h5 + ": sample evaluates fluid fields; a structure's fields are datasets of "
+                                      "solid.h5 (fields/NNNNNN) and its gauges print with `undex gauges`");
+    const auto run = h5::read_run(h5);
+    if (run.times.empty()) throw std::runtime_error(h5 + ": holds no output");
+    size_t best = 0;
+    for (size_t k = 1; k < run.times.size(); ++k)
+        if (std::abs(run.times[k] - r.time) < std::abs(run.times[best] - r.time)) best = k;
+    const auto c = CaseFile::from_text(run.case_text, h5);
+    auto solver = make_solver(c);
+    solver->set_coefficients(read_coefficients(h5, run.groups[best]), run.times[best]);
+    const auto phi = read_level_set(h5, run.groups[best]);
+    if (!phi.empty()) solver->set_level_set(phi);
+    std::fprintf(out, "# time = %.9g s\nx,y", run.times[best]);
+    for (const auto& f : fields)
+        std::fprintf(out, ",%s", f.c_str());
+    std::fprintf(out, "\n");
+    for (int k = 0; k < n; ++k) {
+        const double s = n == 1 ? 0.0 : double(k) / (n - 1);
+        const double x = p0[0] + s * (p1[0] - p0[0]), y = p0[1] + s * (p1[1] - p0[1]);
+        const auto w = solver->evaluate(x, y);
+        std::fprintf(out, "%.9g,%.9g", x, y);
+        for (const auto& f : fields)
+            std::fprintf(out, ",%.12g", f == "rho" ? w.rho : f == "u" ? w.u : f == "v" ? w.v : w.p);
+        std::fprintf(out, "\n");
+    }
+    return 0;
+}
+
+} // namespace undex::fluid

@@ -1,0 +1,25 @@
+// undex run on a coupled case: the fluid and the structure process side by side (docs/protocol.md).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace undex::launcher {
+
+struct CoupledRun {
+    std::string case_path;
+    std::vector<std::string>
+        solver_args;       // --set KEY=VALUE... [-o DIR], passed to undex-fluid and undex-solid
+    std::string directory; // the output directory (the logs go there)
+    std::string endpoint;  // "": an ipc:// endpoint of its own
+    bool tcp = false;      // a free tcp port on this host instead of ipc://
+    std::string fluid;     // the fluid solver's executable
+    std::string structure; // the structure solver's executable, or
+    std::string command;   // structure.command of the case (then no --set and -o are passed)
+};
+
+// Runs both sides, their output interleaved on stdout and kept in DIR/fluid.log and DIR/solid.log; when one
+// side fails the other is stopped after a grace period, as both are on SIGINT or SIGTERM. Returns the exit
+// status of the side that failed first, 0 when both completed.
+int run_coupled(const CoupledRun& r);
+
+} // namespace undex::launcher
