@@ -13,6 +13,7 @@
 //   6. output    fields at an output time
 //   7. progress  a line every output.progress_seconds and at the end
 #pragma once
+#include "base/exit_status.hpp"
 #include "base/run_plan.hpp"
 
 #include <iosfwd>
@@ -21,16 +22,6 @@
 #include <string>
 
 namespace undex {
-
-// Exit statuses of the solver executables.
-enum ExitStatus : int {
-    exit_complete = 0,
-    exit_bad_case = 1,      // or another error before the run started
-    exit_method_failed = 2, // a state the method cannot hold, or numerics.max_steps reached
-    exit_coupling_failed = 3,
-    exit_stopped = 4, // SIGINT or SIGTERM
-    exit_usage = 64,
-};
 
 // A failure that ends a run: what happened, and the exit status it gives.
 struct RunFailure : std::runtime_error {

@@ -2,6 +2,7 @@
 #include "base/solver_cli.hpp"
 
 #include "base/case_file.hpp"
+#include "base/exit_status.hpp"
 #include "base/signals.hpp"
 
 #include <CLI/CLI.hpp>
@@ -100,16 +101,16 @@ int solver_main(int argc, char** argv, const SolverCommands& c) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::cerr << c.name << ": error: " << e.what() << "\n" << hint << "\n";
-        return 64;
+        return exit_usage;
     }
     try {
         return dispatch(c, r);
     } catch (const UsageError& e) {
         std::cerr << c.name << ": error: " << e.what() << "\n" << hint << "\n";
-        return 64;
+        return exit_usage;
     } catch (const CaseError& e) {
         std::cerr << c.name << ": error: " << e.what() << "\n";
-        return 1;
+        return exit_bad_case;
     } catch (const std::exception& e) {
         for (const auto& f : c.failures)
             if (f.matches(e)) {
@@ -117,7 +118,7 @@ int solver_main(int argc, char** argv, const SolverCommands& c) {
                 return f.status;
             }
         std::cerr << c.name << ": error: " << e.what() << "\n";
-        return 1;
+        return exit_bad_case;
     }
 }
 

@@ -5,6 +5,7 @@
 //   undex-fluid --options                                                  the fluid's named choices
 //   undex-fluid --sample DIR --time T --line "x0,y0 x1,y1" --points N [--fields rho,u,v,p]
 #include "base/case_file.hpp"
+#include "base/exit_status.hpp"
 #include "base/run_plan.hpp"
 #include "base/solver_cli.hpp"
 #include "coupler/participant.hpp"
@@ -54,7 +55,7 @@ int run(const undex::CaseFile& c, const std::string& couple) {
         return undex::fluid::run(c, std::cout, couple);
     } catch (const undex::fluid::SolverFailure& e) {
         std::cerr << "undex-fluid: error: initial data: " << e.what() << "\n";
-        return 2;
+        return undex::exit_method_failed;
     }
 }
 
@@ -68,6 +69,7 @@ int main(int argc, char** argv) {
     commands.check = check;
     commands.options = options;
     commands.sample = [](const undex::SampleRequest& r) { return undex::fluid::sample(r); };
-    commands.failures.push_back(undex::failure_kind<undex::coupling::CouplingError>(3, "coupling: "));
+    commands.failures.push_back(
+        undex::failure_kind<undex::coupling::CouplingError>(undex::exit_coupling_failed, "coupling: "));
     return undex::solver_main(argc, argv, commands);
 }

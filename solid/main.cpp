@@ -5,6 +5,7 @@
 //   undex-solid --check CASE [--set key=value]... [-o DIR]                checks the structure of a case
 //   undex-solid --options                                                  the structure's named choices
 #include "base/case_file.hpp"
+#include "base/exit_status.hpp"
 #include "base/run_plan.hpp"
 #include "base/solver_cli.hpp"
 #include "coupler/participant.hpp"
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
     };
     commands.check = check;
     commands.options = options;
-    commands.failures.push_back(undex::failure_kind<undex::coupling::CouplingError>(3, "coupling: "));
+    commands.failures.push_back(
+        undex::failure_kind<undex::coupling::CouplingError>(undex::exit_coupling_failed, "coupling: "));
     return undex::solver_main(argc, argv, commands);
 }

@@ -2,6 +2,7 @@
 //   undex-rigid CASE [--set key=value]... [-o DIR] --couple ENDPOINT   runs the rigid plate of a case
 //   undex-rigid --check CASE [--set key=value]... [-o DIR]             checks it
 #include "base/case_file.hpp"
+#include "base/exit_status.hpp"
 #include "base/solver_cli.hpp"
 #include "coupler/participant.hpp"
 #include "solid/rigid.hpp"
@@ -20,6 +21,7 @@ int main(int argc, char** argv) {
                   << " kg/m² (undex-rigid)\n";
         return 0;
     };
-    commands.failures.push_back(undex::failure_kind<undex::coupling::CouplingError>(3, "coupling: "));
+    commands.failures.push_back(
+        undex::failure_kind<undex::coupling::CouplingError>(undex::exit_coupling_failed, "coupling: "));
     return undex::solver_main(argc, argv, commands);
 }

@@ -1,0 +1,16 @@
+// The exit statuses of the solver executables and of undex (which passes a solver's on).
+#pragma once
+
+namespace undex {
+
+// Exit statuses of the solver executables.
+enum ExitStatus : int {
+    exit_complete = 0,
+    exit_bad_case = 1,      // or another error before the run started
+    exit_method_failed = 2, // a state the method cannot hold, or numerics.max_steps reached
+    exit_coupling_failed = 3,
+    exit_stopped = 4, // SIGINT or SIGTERM
+    exit_usage = 64,
+};
+
+} // namespace undex
