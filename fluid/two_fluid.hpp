@@ -11,6 +11,7 @@
 //     the entropy of their own fluid, extrapolated from the interface.
 // The level set moves with the extension of the interface velocity u*·n and is reinitialised periodically.
 #pragma once
+#include "fluid/eos.hpp"
 #include "fluid/interface_riemann.hpp"
 #include "fluid/level_set.hpp"
 #include "fluid/scheme.hpp"
@@ -34,28 +35,15 @@ struct InterfaceSettings {
     int reinit_iterations = 3; // pseudo-time iterations per reinitialisation
 };
 
-template <class Eos> RiemannMaterial riemann_material(const Eos& eos) {
-    RiemannMaterial m;
-    m.gamma = eos.gamma;
-    if constexpr (Eos::barotropic) {
-        m.pi = eos.B - eos.A;
-        m.tait = true;
-        m.B = eos.B;
-        m.rho0 = eos.rho0;
-    } else {
-        m.pi = eos.p_inf;
-    }
-    return m;
-}
-
-template <int D, int K, class EosM, class EosP> class TwoFluid final : public FluidSolver {
+template <int D, int K, EquationOfState EosM, EquationOfState EosP>
+class TwoFluid final : public FluidSolver {
   public:
     TwoFluid(const Mesh& mesh, const EosM& eos_m, const EosP& eos_p, const Settings& s,
              const std::array<Boundary, 4>& bc, const InterfaceSettings& is, const std::string& minus_name,
              const std::string& plus_name)
         : mesh_(mesh), set_(is), names_{minus_name, plus_name}, minus_(mesh, eos_m, s, bc),
-          plus_(mesh, eos_p, s, bc), phi_(mesh), mat_m_(riemann_material(eos_m)),
-          mat_p_(riemann_material(eos_p)) {
+          plus_(mesh, eos_p, s, bc), phi_(mesh), mat_m_(eos_m.riemann_material()),
+          mat_p_(eos_p.riemann_material()) {
         active_m_.assign(mesh_.padded_cells(), 0);
         active_p_.assign(mesh_.padded_cells(), 0);
         minus_.set_active(&active_m_);
@@ -366,8 +354,8 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
                     const double s = neg ? sp[k] : sm[k];
                     const double pbar =
                         std::max(real.p[k] + gm.pi, 1e-6 * (std::abs(real.p[k]) + gm.pi + 1.0));
-                    double rho = s * std::pow(pbar, 1.0 / gm.gamma);
-                    if (gm.tait) rho = gm.rho0 * std::pow(pbar / gm.B, 1.0 / gm.gamma);
+                    const double rho =
+                        neg ? plus_.eos().entropy_density(s, pbar) : minus_.eos().entropy_density(s, pbar);
                     const Primitive g{rho, real.u[k], real.v[k], pbar - gm.pi};
                     if (neg)
                         plus_.set_cell_state(i, j, g);
