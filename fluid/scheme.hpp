@@ -307,6 +307,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         }
     }
 
+    // Long on purpose (about 115 lines): the hot loop of the solver, kept in one piece so that its stages
+    // (face fluxes, volume integrals, source, face integrals) share the per-cell locals and inline freely.
     void compute_rhs(std::vector<double>& Uvec, double t) {
         double* U = Uvec.data();
         fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
@@ -485,6 +487,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         troubled_ += count;
     }
 
+    // Long on purpose (about 110 lines): the per-troubled-cell hot loop of the limiter in one piece.
     void weno(double* U) {
         const int ny = mesh_.ny;
         // Limited polynomials go to rhs_ (free at this point) and are copied back, so that every cell is
