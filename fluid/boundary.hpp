@@ -2,6 +2,8 @@
 // limiter treat boundary cells like interior ones. Sides: 0 x_min, 1 x_max, 2 y_min, 3 y_max.
 #pragma once
 #include "fluid/basis.hpp"
+#include "fluid/eos.hpp"
+#include "fluid/euler.hpp"
 #include "fluid/mesh.hpp"
 #include "fluid/solver.hpp"
 
@@ -26,69 +28,56 @@ template <int D, int K> inline void mirror(const double* in, double* out, int di
 }
 
 // The cell-average density, velocity and pressure of an interior cell's coefficients.
-template <int D, int K, class Eos>
+template <int D, int K, EquationOfState Eos>
 inline void cell_average_state(const double* in, const Eos& eos, double& rho, double* vel, double& p) {
-    constexpr int NV = D + 2, NB = Basis<D, K>::NB;
-    rho = in[0];
-    vel[0] = in[NB] / rho;
-    vel[1] = D == 2 ? in[2 * NB] / rho : 0.0;
-    const double ke = 0.5 * rho * (vel[0] * vel[0] + vel[1] * vel[1]);
-    p = eos.pressure(rho, in[(NV - 1) * NB] - ke);
+    const Primitive w = euler::to_primitive<D>(eos, euler::Strided<const double>{in, Basis<D, K>::NB});
+    rho = w.rho;
+    vel[0] = w.u;
+    vel[1] = w.v;
+    p = w.p;
 }
 
 // Coefficients of the constant state (ρ, velocity, p) in a ghost cell.
-template <int D, int K, class Eos>
+template <int D, int K, EquationOfState Eos>
 inline void constant_state(double* out, double rho, const double* vel, double p, const Eos& eos) {
     constexpr int NV = D + 2, NB = Basis<D, K>::NB;
     for (int i = 0; i < NV * NB; ++i)
         out[i] = 0.0;
-    out[0] = rho;
-    for (int d = 0; d < D; ++d)
-        out[(1 + d) * NB] = rho * vel[d];
-    out[(NV - 1) * NB] = eos.internal_energy(rho, p) + 0.5 * rho * (vel[0] * vel[0] + vel[1] * vel[1]);
+    euler::to_conserved<D>(eos, Primitive{rho, vel[0], vel[1], p}, euler::Strided<double>{out, NB});
 }
 
 // Ghost state of a prescribed pressure p_b: density on the isentrope of the interior cell average and
 // velocity from the outgoing Riemann invariant u ∓ 2a/(γ−1) (exact for both stiffened gases and Tait water,
 // whose isentropes are polytropic in p + P∞). Constant polynomial.
-template <int D, int K, class Eos>
+template <int D, int K, EquationOfState Eos>
 inline void pressure_ghost(const double* in, double* out, int side, double p_b, const Eos& eos) {
     const int dir = side / 2;
     double rho, vel[2], p;
     cell_average_state<D, K>(in, eos, rho, vel, p);
     const double a = eos.sound_speed(rho, p);
-    double rho_b;
-    if constexpr (Eos::barotropic)
-        rho_b = eos.density(p_b);
-    else
-        rho_b = rho * std::pow((p_b + eos.p_inf) / (p + eos.p_inf), 1.0 / eos.gamma);
+    const double rho_b = eos.isentrope_density(rho, p, p_b);
     const double a_b = eos.sound_speed(rho_b, p_b);
     const double sign = side % 2 == 0 ? 1.0 : -1.0; // low side: u − 2a/(γ−1) leaves; high side: u + 2a/(γ−1)
-    vel[dir] += sign * 2.0 * (a_b - a) / (eos.gamma - 1.0);
+    vel[dir] += sign * 2.0 * (a_b - a) / (eos.isentropic_exponent() - 1.0);
     constant_state<D, K>(out, rho_b, vel, p_b, eos);
 }
 
 // Ghost state of the structure's interface (physics.md §5): the pressure p_I and normal velocity u_I of the
 // structure, density on the isentrope of the interior cell average. Between the interior trace and this
 // state the face's Riemann problem returns (p_I, u_I) when they satisfy the characteristic relation.
-template <int D, int K, class Eos>
+template <int D, int K, EquationOfState Eos>
 inline void structure_ghost(const double* in, double* out, int side, double p_I, double u_I, const Eos& eos) {
     const int dir = side / 2;
     double rho, vel[2], p;
     cell_average_state<D, K>(in, eos, rho, vel, p);
-    double rho_b;
-    if constexpr (Eos::barotropic) { // a wall held at the cavitation pressure keeps the mixture's density
-        rho_b = eos.cavitation && p_I <= eos.cav.p_cav ? std::min(rho, eos.cav.rho_l_cav) : eos.density(p_I);
-    } else {
-        rho_b = rho * std::pow((p_I + eos.p_inf) / (p + eos.p_inf), 1.0 / eos.gamma);
-    }
+    const double rho_b = eos.wall_density(rho, p, p_I);
     vel[dir] = side % 2 == 0 ? -u_I : u_I; // u_I is along the normal into the structure
     constant_state<D, K>(out, rho_b, vel, p_I, eos);
 }
 
 } // namespace detail
 
-template <int D, int K, class Eos>
+template <int D, int K, EquationOfState Eos>
 void fill_ghosts(const Mesh& m, double* U, const std::array<Boundary, 4>& bc, const Eos& eos, double t) {
     constexpr int NC = (D + 2) * Basis<D, K>::NB; // numbers per cell
     const int nsides = 2 * D;

@@ -5,7 +5,9 @@
 // the pressure stays at p_cav and the mixture sound speed at p_cav is used, so p(ρ) is continuous.
 #pragma once
 #include "fluid/cavitation.hpp"
+#include "fluid/eos.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace undex::fluid {
@@ -16,9 +18,13 @@ struct Tait {
     bool cavitation = false;
     CavitationModel cav;
 
+    // The Tait relation p(ρ) of the liquid, and its inverse ρ(p).
+    double liquid_pressure(double rho) const { return B * (std::pow(rho / rho0, gamma) - 1.0) + A; }
+    double density(double p) const { return rho0 * std::pow((p - A) / B + 1.0, 1.0 / gamma); }
+
     double pressure(double rho, double /*rho_e*/) const {
         if (cavitation && rho < cav.rho_l_cav) return rho < cav.rho_sat ? cav.pressure(rho) : cav.p_cav;
-        return B * (std::pow(rho / rho0, gamma) - 1.0) + A;
+        return liquid_pressure(rho);
     }
     double sound_speed(double rho, double p) const {
         if (cavitation && p <= cav.p_cav) return p < cav.p_cav ? cav.mixture_sound_speed(p) : cav.a_sat;
@@ -29,8 +35,30 @@ struct Tait {
     double internal_energy(double /*rho*/, double p) const { return (p + gamma * (B - A)) / (gamma - 1.0); }
     // Any positive density is admissible: p + B − A > 0 for ρ > 0, and p > 0 with cavitation.
     double pressure_margin(double /*p*/) const { return 1.0; }
+    double pressure_floor() const { return cavitation ? cav.p_cav : A - B; }
     double gruneisen() const { return gamma - 1.0; }
-    double density(double p) const { return rho0 * std::pow((p - A) / B + 1.0, 1.0 / gamma); }
+    double isentropic_exponent() const { return gamma; }
+    // Barotropic: every state lies on the one isentrope ρ(p).
+    double isentrope_density(double /*rho*/, double /*p*/, double p_new) const { return density(p_new); }
+    // A wall held at the cavitation pressure keeps the mixture's density.
+    double wall_density(double rho, double /*p*/, double p_wall) const {
+        return cavitation && p_wall <= cav.p_cav ? std::min(rho, cav.rho_l_cav) : density(p_wall);
+    }
+    // ρ(p̄) with p̄ = p + B − A; the entropy s plays no part.
+    double entropy_density(double /*s*/, double pbar) const { return rho0 * std::pow(pbar / B, 1.0 / gamma); }
+    RiemannMaterial riemann_material() const {
+        RiemannMaterial m;
+        m.gamma = gamma;
+        m.pi = B - A;
+        m.tait = true;
+        m.B = B;
+        m.rho0 = rho0;
+        return m;
+    }
+    bool has_cavitation() const { return cavitation; }
+    double void_fraction(double p) const { return cavitation ? cav.void_fraction(p) : 0.0; }
 };
+
+static_assert(EquationOfState<Tait>);
 
 } // namespace undex::fluid

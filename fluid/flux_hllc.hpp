@@ -2,15 +2,18 @@
 // (0: x, 1: y). Wave speeds: Davis estimates with each side's own sound speed (physics.md §3). For
 // barotropic water the energy component is carried but plays no part in the pressure.
 #pragma once
+#include "fluid/eos.hpp"
+#include "fluid/euler.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace undex::fluid {
 
 // Conserved (ρ, ρu, [ρv,] E) with NV = 3 (1D) or 4 (2D). p is supplied by the caller.
-template <int NV, int Dir, class Eos>
+template <int NV, int Dir, EquationOfState Eos>
 inline void hllc_flux(const Eos& eos, const double* UL, double pL, const double* UR, double pR, double* F) {
-    constexpr int mn = 1 + Dir;         // normal momentum component
+    constexpr int mn = 1 + Dir; // normal momentum component
     constexpr int E = NV - 1;
     const double rL = UL[0], rR = UR[0];
     const double unL = UL[mn] / rL, unR = UR[mn] / rR;
@@ -20,43 +23,47 @@ inline void hllc_flux(const Eos& eos, const double* UL, double pL, const double*
     const double mL = rL * (SL - unL), mR = rR * (SR - unR);
     const double Ss = (pR - pL + unL * mL - unR * mR) / (mL - mR);
 
-    auto physical = [&](const double* U, double un, double p, double* f) {
-        for (int v = 0; v < NV; ++v) f[v] = U[v] * un;
-        f[mn] += p;
-        f[E] += p * un;
-    };
     if (!(Ss > SL && Ss < SR)) {
         // Star speed outside the wave fan (near-vacuum or a very soft cavitating mixture, where the
         // estimate above is ill-conditioned): use the positivity-preserving HLL flux instead.
         double FL[NV], FR[NV];
-        physical(UL, unL, pL, FL);
-        physical(UR, unR, pR, FR);
-        if (SL >= 0.0) for (int v = 0; v < NV; ++v) F[v] = FL[v];
-        else if (SR <= 0.0) for (int v = 0; v < NV; ++v) F[v] = FR[v];
+        euler::flux<NV, Dir>(UL, unL, pL, FL);
+        euler::flux<NV, Dir>(UR, unR, pR, FR);
+        if (SL >= 0.0)
+            for (int v = 0; v < NV; ++v)
+                F[v] = FL[v];
+        else if (SR <= 0.0)
+            for (int v = 0; v < NV; ++v)
+                F[v] = FR[v];
         else
-            for (int v = 0; v < NV; ++v) F[v] = (SR * FL[v] - SL * FR[v] + SL * SR * (UR[v] - UL[v])) / (SR - SL);
+            for (int v = 0; v < NV; ++v)
+                F[v] = (SR * FL[v] - SL * FR[v] + SL * SR * (UR[v] - UL[v])) / (SR - SL);
     } else if (SL >= 0.0) {
-        physical(UL, unL, pL, F);
+        euler::flux<NV, Dir>(UL, unL, pL, F);
     } else if (SR <= 0.0) {
-        physical(UR, unR, pR, F);
+        euler::flux<NV, Dir>(UR, unR, pR, F);
     } else if (Ss >= 0.0) {
-        physical(UL, unL, pL, F);
+        euler::flux<NV, Dir>(UL, unL, pL, F);
         const double f = mL / (SL - Ss); // ρ* of the left star state
         double Us[NV];
-        for (int v = 0; v < NV; ++v) Us[v] = f * UL[v] / rL;
+        for (int v = 0; v < NV; ++v)
+            Us[v] = f * UL[v] / rL;
         Us[0] = f;
         Us[mn] = f * Ss;
         Us[E] = f * (UL[E] / rL + (Ss - unL) * (Ss + pL / mL));
-        for (int v = 0; v < NV; ++v) F[v] += SL * (Us[v] - UL[v]);
+        for (int v = 0; v < NV; ++v)
+            F[v] += SL * (Us[v] - UL[v]);
     } else {
-        physical(UR, unR, pR, F);
+        euler::flux<NV, Dir>(UR, unR, pR, F);
         const double f = mR / (SR - Ss);
         double Us[NV];
-        for (int v = 0; v < NV; ++v) Us[v] = f * UR[v] / rR;
+        for (int v = 0; v < NV; ++v)
+            Us[v] = f * UR[v] / rR;
         Us[0] = f;
         Us[mn] = f * Ss;
         Us[E] = f * (UR[E] / rR + (Ss - unR) * (Ss + pR / mR));
-        for (int v = 0; v < NV; ++v) F[v] += SR * (Us[v] - UR[v]);
+        for (int v = 0; v < NV; ++v)
+            F[v] += SR * (Us[v] - UR[v]);
     }
 }
 

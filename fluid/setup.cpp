@@ -1,12 +1,13 @@
 #include "fluid/setup.hpp"
 
-#include "proto/case.pb.h"
 #include "base/case_file.hpp"
 #include "base/run_plan.hpp"
 #include "fluid/eos_stiffened_gas.hpp"
 #include "fluid/eos_tait.hpp"
+#include "fluid/euler.hpp"
 #include "fluid/scheme.hpp"
 #include "fluid/two_fluid.hpp"
+#include "proto/case.pb.h"
 
 #include <algorithm>
 #include <cmath>
@@ -57,8 +58,6 @@ const std::vector<NamedOption>& interface_riemann_names() {
     return names;
 }
 
-
-
 namespace {
 
 bool is_2d(cfg::Geometry g) {
@@ -92,10 +91,76 @@ int material_index(const cfg::Case& c, const std::string& name) {
     return -1;
 }
 
-// Lowest admissible pressure of a material: p > −P∞ (stiffened gas) or ρ > 0 (Tait: p > A − B).
-double pressure_bound(const cfg::Material& m) {
-    if (m.has_stiffened_gas()) return -m.stiffened_gas().p_inf();
-    return m.tait().a() - m.tait().b();
+// ---- The equations of state a material can name: one row each (docs/adding_an_eos.md). ----
+
+using AnyEos = std::variant<StiffenedGas, Tait>;
+
+struct EosRow {
+    const char* model;                    // the field of cfg::Material's `model` oneof
+    bool (*chosen)(const cfg::Material&); // the material names this model
+    // Checks the model's parameters; path is the material's, e.g. "materials[0]".
+    void (*check)(const CaseFile&, const cfg::Material&, const std::string& path);
+    // The EOS of the material; cavitation null: the cavitation model is off.
+    AnyEos (*make)(const cfg::Material&, const cfg::Cavitation* cavitation);
+};
+
+const EosRow eos_table[] = {
+    {"stiffened_gas", [](const cfg::Material& m) { return m.has_stiffened_gas(); },
+     [](const CaseFile& cf, const cfg::Material& m, const std::string& p) {
+         if (!(m.stiffened_gas().gamma() > 1)) cf.fail(p + ".stiffened_gas.gamma", "gamma must be > 1");
+         if (!(m.stiffened_gas().p_inf() >= 0)) cf.fail(p + ".stiffened_gas.p_inf", "p_inf must be ≥ 0");
+     },
+     [](const cfg::Material& m, const cfg::Cavitation*) -> AnyEos {
+         return StiffenedGas{m.stiffened_gas().gamma(), m.stiffened_gas().p_inf()};
+     }},
+    {"tait", [](const cfg::Material& m) { return m.has_tait(); },
+     [](const CaseFile& cf, const cfg::Material& m, const std::string& p) {
+         const auto& t = m.tait();
+         if (!(t.gamma() > 1)) cf.fail(p + ".tait.gamma", "gamma must be > 1");
+         if (!(t.b() > 0)) cf.fail(p + ".tait.B", "B must be positive");
+         if (!(t.rho0() > 0)) cf.fail(p + ".tait.rho0", "rho0 must be positive");
+         if (!(t.b() > t.a())) cf.fail(p + ".tait.A", "A must be smaller than B");
+     },
+     [](const cfg::Material& m, const cfg::Cavitation* cv) -> AnyEos {
+         const auto& t = m.tait();
+         if (t.as_stiffened_gas()) return StiffenedGas{t.gamma(), t.b() - t.a()};
+         Tait eos;
+         eos.gamma = t.gamma();
+         eos.B = t.b();
+         eos.A = t.a();
+         eos.rho0 = t.rho0();
+         eos.cavitation = cv != nullptr;
+         if (eos.cavitation) {
+             eos.cav.p_cav = cv->p_cav();
+             eos.cav.rho_g_cav = cv->rho_g_cav();
+             eos.cav.gamma_g = cv->gamma_g();
+             eos.cav.alpha0 = cv->alpha0();
+             eos.cav.gamma_w = eos.gamma;
+             eos.cav.B = eos.B;
+             eos.cav.A = eos.A;
+             eos.cav.rho0 = eos.rho0;
+             eos.cav.finalize();
+         }
+         return eos;
+     }},
+};
+
+// The row of a material's model, or null if it names none.
+const EosRow* eos_row(const cfg::Material& m) {
+    for (const auto& row : eos_table)
+        if (row.chosen(m)) return &row;
+    return nullptr;
+}
+
+// The EOS of a checked material, with the case's cavitation model when it is enabled; without c, with
+// cavitation off (for checking initial states).
+AnyEos eos_of(const cfg::Material& m, const cfg::Case* c = nullptr) {
+    const bool cav = c && c->cavitation().enabled();
+    return eos_row(m)->make(m, cav ? &c->cavitation() : nullptr);
+}
+
+bool is_barotropic(const AnyEos& eos) {
+    return std::visit([](const auto& e) { return std::decay_t<decltype(e)>::barotropic; }, eos);
 }
 
 bool inside(const cfg::Region& r, double x, double y) {
@@ -120,11 +185,10 @@ void validate_boundary(const CaseFile& cf, const cfg::Boundary& b, const std::st
 
 } // namespace
 
+namespace {
 
-
-void validate(const CaseFile& cf) {
+void validate_domain(const CaseFile& cf) {
     const cfg::Case& c = cf.get();
-    undex::validate_coupling(cf);
     if (c.geometry() == cfg::GEOMETRY_UNSET) cf.fail("geometry", "geometry is not set");
     const bool two_d = is_2d(c.geometry());
     if (!c.has_domain()) cf.fail("domain", "a fluid needs a domain (x_min, x_max, cells_x)");
@@ -142,29 +206,30 @@ void validate(const CaseFile& cf) {
     } else if (d.has_y_min() || d.has_y_max() || d.has_cells_y()) {
         cf.fail(d.has_cells_y() ? "domain.cells_y" : "domain.y_min", "a 1D case has no y extent");
     }
+}
 
-    // Materials.
+void validate_materials(const CaseFile& cf) {
+    const cfg::Case& c = cf.get();
     if (c.materials_size() == 0) cf.fail("materials", "no material is defined");
     for (int m = 0; m < c.materials_size(); ++m) {
         const auto& mat = c.materials(m);
         const std::string p = "materials[" + std::to_string(m) + "]";
         if (material_index(c, mat.name()) != m)
             cf.fail(p + ".name", "material '" + mat.name() + "' is defined twice");
-        if (mat.has_stiffened_gas()) {
-            if (!(mat.stiffened_gas().gamma() > 1)) cf.fail(p + ".stiffened_gas.gamma", "gamma must be > 1");
-            if (!(mat.stiffened_gas().p_inf() >= 0)) cf.fail(p + ".stiffened_gas.p_inf", "p_inf must be ≥ 0");
-        } else if (mat.has_tait()) {
-            const auto& t = mat.tait();
-            if (!(t.gamma() > 1)) cf.fail(p + ".tait.gamma", "gamma must be > 1");
-            if (!(t.b() > 0)) cf.fail(p + ".tait.B", "B must be positive");
-            if (!(t.rho0() > 0)) cf.fail(p + ".tait.rho0", "rho0 must be positive");
-            if (!(t.b() > t.a())) cf.fail(p + ".tait.A", "A must be smaller than B");
+        if (const EosRow* row = eos_row(mat)) {
+            row->check(cf, mat, p);
         } else {
-            cf.fail(p, "material '" + mat.name() + "' needs a model: stiffened_gas or tait");
+            std::string models;
+            for (const auto& r : eos_table)
+                models += (models.empty() ? "" : " or ") + std::string(r.model);
+            cf.fail(p, "material '" + mat.name() + "' needs a model: " + models);
         }
     }
+}
 
-    // Regions.
+void validate_regions(const CaseFile& cf) {
+    const cfg::Case& c = cf.get();
+    const bool two_d = is_2d(c.geometry());
     if (c.regions_size() == 0) cf.fail("regions", "no initial region is defined");
     if (c.regions(0).shape_case() != cfg::Region::SHAPE_NOT_SET)
         cf.fail("regions[0]", "the first region must cover the whole domain (no box or ball)");
@@ -183,26 +248,31 @@ void validate(const CaseFile& cf) {
         }
         if (!(reg.rho() > 0))
             cf.fail(p + ".rho", "density must be positive (got " + std::to_string(reg.rho()) + ")");
-        const double pmin = pressure_bound(c.materials(m));
+        // Without cavitation: the lowest admissible pressure, −P∞ (stiffened gas) or A − B (Tait, ρ > 0).
+        const AnyEos eos = eos_of(c.materials(m));
+        const double pmin = std::visit([](const auto& e) { return e.pressure_floor(); }, eos);
         if (!(reg.p() > pmin))
             cf.fail(p + ".p", "pressure " + std::to_string(reg.p()) + " Pa must exceed " +
                                   std::to_string(pmin) + " Pa (−P∞ of '" + reg.material() + "')");
         if (reg.has_ball() && !(reg.ball().radius() > 0))
             cf.fail(p + ".ball.radius", "radius must be positive");
         if (!two_d && reg.has_v() && reg.v() != 0) cf.fail(p + ".v", "a 1D case has no v velocity");
-        const auto& mat = c.materials(m);
-        if (mat.has_tait() && !mat.tait().as_stiffened_gas()) {
-            // Barotropic water: the pressure follows from the density.
-            const auto& t = mat.tait();
-            const double p_rho = t.b() * (std::pow(reg.rho() / t.rho0(), t.gamma()) - 1.0) + t.a();
-            if (std::abs(reg.p() - p_rho) > 1e-6 * (std::abs(p_rho) + t.b()))
-                cf.fail(p + ".p", "barotropic Tait water has p = p(rho): rho = " + std::to_string(reg.rho()) +
+        if (is_barotropic(eos)) {
+            // Barotropic (Tait water): the pressure follows from the density. Tolerance relative to
+            // |p(ρ)| − p_min (for Tait: |p(ρ)| + B − A).
+            const double p_rho = std::visit([&](const auto& e) { return e.pressure(reg.rho(), 0.0); }, eos);
+            if (std::abs(reg.p() - p_rho) > 1e-6 * (std::abs(p_rho) - pmin))
+                cf.fail(p + ".p", "material '" + reg.material() +
+                                      "' is barotropic, p = p(rho): rho = " + std::to_string(reg.rho()) +
                                       " kg/m^3 gives p = " + std::to_string(p_rho) + " Pa, not " +
                                       std::to_string(reg.p()) + " Pa");
         }
     }
+}
 
-    // Two materials: a level set from the region shapes and the ghost fluid method.
+// Two materials: a level set from the region shapes and the ghost fluid method.
+void validate_interface(const CaseFile& cf) {
+    const cfg::Case& c = cf.get();
     bool two_materials = false;
     for (const auto& reg : c.regions())
         two_materials |= reg.material() != c.regions(0).material();
@@ -227,8 +297,13 @@ void validate(const CaseFile& cf) {
                     "reinitialising to stay a distance function");
         if (in.reinit_iterations() < 0) cf.fail("interface.reinit_iterations", "must be ≥ 0");
     }
+}
 
-    // Boundaries.
+// Boundaries.
+void validate_boundaries(const CaseFile& cf) {
+    const cfg::Case& c = cf.get();
+    const bool two_d = is_2d(c.geometry());
+    const auto& d = c.domain();
     const auto& b = c.boundaries();
     validate_boundary(cf, b.x_min(), "boundaries.x_min");
     validate_boundary(cf, b.x_max(), "boundaries.x_max");
@@ -263,8 +338,11 @@ void validate(const CaseFile& cf) {
         cf.fail("boundaries.x_min", "the axis or centre x = 0 needs a SYMMETRY boundary");
     if (alpha_of(c.geometry()) > 0 && b.x_min().type() == cfg::Boundary::PERIODIC)
         cf.fail("boundaries.x_min", "a radial direction cannot be periodic");
+}
 
-    // Numerics.
+// Numerics.
+void validate_numerics(const CaseFile& cf) {
+    const cfg::Case& c = cf.get();
     const auto& n = c.numerics();
     if (n.degree() < 0 || n.degree() > 2) cf.fail("numerics.degree", "degree must be 0, 1 or 2");
     if (!(n.cfl() > 0 && n.cfl() <= 1))
@@ -284,14 +362,16 @@ void validate(const CaseFile& cf) {
         cf.fail("numerics.positivity_epsilon", "must lie in (0, 1)");
     if (n.threads() < 0) cf.fail("numerics.threads", "must be ≥ 0");
     if (n.max_steps() < 1) cf.fail("numerics.max_steps", "must be ≥ 1");
+}
 
-    // Cavitation.
+// Cavitation.
+void validate_cavitation(const CaseFile& cf) {
+    const cfg::Case& c = cf.get();
     if (c.cavitation().enabled()) {
         const auto& cv = c.cavitation();
         bool barotropic = false;
         for (const auto& reg : c.regions()) {
-            const auto& mat = c.materials(material_index(c, reg.material()));
-            barotropic |= mat.has_tait() && !mat.tait().as_stiffened_gas();
+            barotropic |= is_barotropic(eos_of(c.materials(material_index(c, reg.material()))));
         }
         if (!barotropic)
             cf.fail("cavitation.enabled",
@@ -301,8 +381,13 @@ void validate(const CaseFile& cf) {
         if (!(cv.gamma_g() > 1)) cf.fail("cavitation.gamma_g", "must be > 1");
         if (!(cv.alpha0() > 0 && cv.alpha0() < 1)) cf.fail("cavitation.alpha0", "must lie in (0, 1)");
     }
+}
 
-    // Time and output.
+// Time, output and gauges.
+void validate_output(const CaseFile& cf) {
+    const cfg::Case& c = cf.get();
+    const bool two_d = is_2d(c.geometry());
+    const auto& d = c.domain();
     if (!(c.end_time() > 0)) cf.fail("end_time", "must be positive");
     const auto& o = c.output();
     for (int k = 0; k < o.times_size(); ++k)
@@ -327,6 +412,19 @@ void validate(const CaseFile& cf) {
     }
 }
 
+} // namespace
+
+void validate(const CaseFile& cf) {
+    undex::validate_coupling(cf);
+    validate_domain(cf);
+    validate_materials(cf);
+    validate_regions(cf);
+    validate_interface(cf);
+    validate_boundaries(cf);
+    validate_numerics(cf);
+    validate_cavitation(cf);
+    validate_output(cf);
+}
 
 namespace {
 
@@ -363,11 +461,7 @@ std::unique_ptr<FluidSolver> build(const cfg::Case& c, const Mesh& mesh, const E
         const cfg::Region* reg = &c.regions(0);
         for (const auto& r : c.regions())
             if (inside(r, x, y)) reg = &r;
-        const double u = reg->u(), v = reg->v();
-        q[0] = reg->rho();
-        q[1] = reg->rho() * u;
-        if (D == 2) q[2] = reg->rho() * v;
-        q[D + 1] = eos.internal_energy(reg->rho(), reg->p()) + 0.5 * reg->rho() * (u * u + v * v);
+        euler::to_conserved<D>(eos, Primitive{reg->rho(), reg->u(), reg->v(), reg->p()}, q);
     });
     return solver;
 }
@@ -412,11 +506,7 @@ void state_of(const cfg::Case& c, const std::string& name, const Eos& eos, doubl
     const cfg::Region* reg = nullptr;
     for (const auto& r : c.regions())
         if (r.material() == name && (inside(r, x, y) || !reg)) reg = &r;
-    const double u = reg->u(), v = reg->v();
-    q[0] = reg->rho();
-    q[1] = reg->rho() * u;
-    if (D == 2) q[2] = reg->rho() * v;
-    q[D + 1] = eos.internal_energy(reg->rho(), reg->p()) + 0.5 * reg->rho() * (u * u + v * v);
+    euler::to_conserved<D>(eos, Primitive{reg->rho(), reg->u(), reg->v(), reg->p()}, q);
 }
 
 template <int D, int K, class EosM, class EosP>
@@ -455,32 +545,6 @@ std::unique_ptr<FluidSolver> build_two_dim(const cfg::Case& c, const Mesh& m, co
     default:
         return one ? build_two<1, 2>(c, m, em, ep, s, bc, is) : build_two<2, 2>(c, m, em, ep, s, bc, is);
     }
-}
-
-std::variant<StiffenedGas, Tait> eos_of(const cfg::Case& c, const cfg::Material& mat) {
-    if (mat.has_stiffened_gas())
-        return StiffenedGas{mat.stiffened_gas().gamma(), mat.stiffened_gas().p_inf()};
-    const auto& t = mat.tait();
-    if (t.as_stiffened_gas()) return StiffenedGas{t.gamma(), t.b() - t.a()};
-    Tait eos;
-    eos.gamma = t.gamma();
-    eos.B = t.b();
-    eos.A = t.a();
-    eos.rho0 = t.rho0();
-    eos.cavitation = c.cavitation().enabled();
-    if (eos.cavitation) {
-        auto& cv = eos.cav;
-        cv.p_cav = c.cavitation().p_cav();
-        cv.rho_g_cav = c.cavitation().rho_g_cav();
-        cv.gamma_g = c.cavitation().gamma_g();
-        cv.alpha0 = c.cavitation().alpha0();
-        cv.gamma_w = eos.gamma;
-        cv.B = eos.B;
-        cv.A = eos.A;
-        cv.rho0 = eos.rho0;
-        cv.finalize();
-    }
-    return eos;
 }
 
 } // namespace
@@ -523,7 +587,7 @@ std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
         bc[2] = boundary(c.boundaries().y_min());
         bc[3] = boundary(c.boundaries().y_max());
     }
-    const auto eos_plus = eos_of(c, c.materials(material_index(c, c.regions(0).material())));
+    const auto eos_plus = eos_of(c.materials(material_index(c, c.regions(0).material())), &c);
     const cfg::Region* other = nullptr;
     for (const auto& r : c.regions())
         if (r.material() != c.regions(0).material() && !other) other = &r;
@@ -537,7 +601,7 @@ std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
     is.band_cells = in.band_cells();
     is.reinit_every = in.reinit_every();
     is.reinit_iterations = in.reinit_iterations();
-    const auto eos_minus = eos_of(c, c.materials(material_index(c, other->material())));
+    const auto eos_minus = eos_of(c.materials(material_index(c, other->material())), &c);
     return std::visit(
         [&](const auto& em, const auto& ep) { return build_two_dim(c, mesh, em, ep, s, bc, is); }, eos_minus,
         eos_plus);

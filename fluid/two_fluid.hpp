@@ -11,6 +11,7 @@
 //     the entropy of their own fluid, extrapolated from the interface.
 // The level set moves with the extension of the interface velocity u*·n and is reinitialised periodically.
 #pragma once
+#include "fluid/eos.hpp"
 #include "fluid/interface_riemann.hpp"
 #include "fluid/level_set.hpp"
 #include "fluid/scheme.hpp"
@@ -34,28 +35,15 @@ struct InterfaceSettings {
     int reinit_iterations = 3; // pseudo-time iterations per reinitialisation
 };
 
-template <class Eos> RiemannMaterial riemann_material(const Eos& eos) {
-    RiemannMaterial m;
-    m.gamma = eos.gamma;
-    if constexpr (Eos::barotropic) {
-        m.pi = eos.B - eos.A;
-        m.tait = true;
-        m.B = eos.B;
-        m.rho0 = eos.rho0;
-    } else {
-        m.pi = eos.p_inf;
-    }
-    return m;
-}
-
-template <int D, int K, class EosM, class EosP> class TwoFluid final : public FluidSolver {
+template <int D, int K, EquationOfState EosM, EquationOfState EosP>
+class TwoFluid final : public FluidSolver {
   public:
     TwoFluid(const Mesh& mesh, const EosM& eos_m, const EosP& eos_p, const Settings& s,
              const std::array<Boundary, 4>& bc, const InterfaceSettings& is, const std::string& minus_name,
              const std::string& plus_name)
         : mesh_(mesh), set_(is), names_{minus_name, plus_name}, minus_(mesh, eos_m, s, bc),
-          plus_(mesh, eos_p, s, bc), phi_(mesh), mat_m_(riemann_material(eos_m)),
-          mat_p_(riemann_material(eos_p)) {
+          plus_(mesh, eos_p, s, bc), phi_(mesh), mat_m_(eos_m.riemann_material()),
+          mat_p_(eos_p.riemann_material()) {
         active_m_.assign(mesh_.padded_cells(), 0);
         active_p_.assign(mesh_.padded_cells(), 0);
         minus_.set_active(&active_m_);
@@ -265,6 +253,66 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
         throw SolverFailure(s.str());
     }
 
+    // Interface cells: real cells with a 4-neighbour of the other fluid.
+    std::vector<std::array<int, 2>> interface_cells() const {
+        const int nx = mesh_.nx, ny = mesh_.ny;
+        std::vector<std::array<int, 2>> cells;
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                const bool neg = phi_(i, j) < 0;
+                bool cut = false;
+                if (i > 0) cut |= (phi_(i - 1, j) < 0) != neg;
+                if (i + 1 < nx) cut |= (phi_(i + 1, j) < 0) != neg;
+                if (D == 2 && j > 0) cut |= (phi_(i, j - 1) < 0) != neg;
+                if (D == 2 && j + 1 < ny) cut |= (phi_(i, j + 1) < 0) != neg;
+                if (cut) cells.push_back({i, j});
+            }
+        return cells;
+    }
+
+    // Within `band` of the interface: the extension velocity un·n, and the other fluid's ghost cells from
+    // the extrapolated interface states (real and modified GFM) or from the real fluid's pressure and
+    // velocity with the ghost fluid's extrapolated entropy sm, sp (original GFM).
+    void fill_bands(const Fields& fm, const Fields& fp, const std::vector<double>& sm,
+                    const std::vector<double>& sp, const std::vector<double>& un, double band) {
+        const int nx = mesh_.nx, ny = mesh_.ny;
+        const long n = static_cast<long>(nx) * ny;
+        wx_.assign(n, 0.0);
+        wy_.assign(n, 0.0);
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                const long k = at(i, j);
+                const double f = phi_(i, j);
+                if (std::abs(f) > band) continue;
+                std::array<double, 2> nrm = phi_.normal(i, j);
+                if (D == 1) nrm = {nrm[0] >= 0 ? 1.0 : -1.0, 0.0};
+                wx_[k] = un[k] * nrm[0];
+                wy_[k] = un[k] * nrm[1];
+                const bool neg = f < 0;
+                if (set_.method != GhostMethod::Original) {
+                    // Ghost cells of the other fluid here.
+                    if (neg)
+                        plus_.set_cell_state(i, j, {fp.rho[k], fp.u[k], fp.v[k], fp.p[k]});
+                    else
+                        minus_.set_cell_state(i, j, {fm.rho[k], fm.u[k], fm.v[k], fm.p[k]});
+                } else {
+                    // Pressure and velocity of the real fluid, entropy of the ghost fluid.
+                    const Fields& real = neg ? fm : fp;
+                    const RiemannMaterial& gm = neg ? mat_p_ : mat_m_;
+                    const double s = neg ? sp[k] : sm[k];
+                    const double pbar =
+                        std::max(real.p[k] + gm.pi, 1e-6 * (std::abs(real.p[k]) + gm.pi + 1.0));
+                    const double rho =
+                        neg ? plus_.eos().entropy_density(s, pbar) : minus_.eos().entropy_density(s, pbar);
+                    const Primitive g{rho, real.u[k], real.v[k], pbar - gm.pi};
+                    if (neg)
+                        plus_.set_cell_state(i, j, g);
+                    else
+                        minus_.set_cell_state(i, j, g);
+                }
+            }
+    }
+
     // Interface states, ghost bands and the extension velocity (physics.md §4, paper §3.2).
     void treat_interface() {
         const int nx = mesh_.nx, ny = mesh_.ny;
@@ -282,18 +330,7 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
                 sp[k] = fp.rho[k] / std::pow(std::max(fp.p[k] + mat_p_.pi, 1e-300), 1.0 / mat_p_.gamma);
             }
         }
-        // Interface cells: real cells with a 4-neighbour of the other fluid.
-        std::vector<std::array<int, 2>> cells;
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
-                const bool neg = phi_(i, j) < 0;
-                bool cut = false;
-                if (i > 0) cut |= (phi_(i - 1, j) < 0) != neg;
-                if (i + 1 < nx) cut |= (phi_(i + 1, j) < 0) != neg;
-                if (D == 2 && j > 0) cut |= (phi_(i, j - 1) < 0) != neg;
-                if (D == 2 && j + 1 < ny) cut |= (phi_(i, j + 1) < 0) != neg;
-                if (cut) cells.push_back({i, j});
-            }
+        const std::vector<std::array<int, 2>> cells = interface_cells();
         std::vector<Primitive> redefined(cells.size());
         for (size_t c = 0; c < cells.size(); ++c) {
             const int i = cells[c][0], j = cells[c][1];
@@ -341,40 +378,7 @@ template <int D, int K, class EosM, class EosP> class TwoFluid final : public Fl
             phi_.extrapolate({sp.data()}, fp.known, cells_wide);
         }
         phi_.extrapolate({un.data()}, un_known, cells_wide);
-        wx_.assign(n, 0.0);
-        wy_.assign(n, 0.0);
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
-                const long k = at(i, j);
-                const double f = phi_(i, j);
-                if (std::abs(f) > band) continue;
-                std::array<double, 2> nrm = phi_.normal(i, j);
-                if (D == 1) nrm = {nrm[0] >= 0 ? 1.0 : -1.0, 0.0};
-                wx_[k] = un[k] * nrm[0];
-                wy_[k] = un[k] * nrm[1];
-                const bool neg = f < 0;
-                if (set_.method != GhostMethod::Original) {
-                    // Ghost cells of the other fluid here.
-                    if (neg)
-                        plus_.set_cell_state(i, j, {fp.rho[k], fp.u[k], fp.v[k], fp.p[k]});
-                    else
-                        minus_.set_cell_state(i, j, {fm.rho[k], fm.u[k], fm.v[k], fm.p[k]});
-                } else {
-                    // Pressure and velocity of the real fluid, entropy of the ghost fluid.
-                    const Fields& real = neg ? fm : fp;
-                    const RiemannMaterial& gm = neg ? mat_p_ : mat_m_;
-                    const double s = neg ? sp[k] : sm[k];
-                    const double pbar =
-                        std::max(real.p[k] + gm.pi, 1e-6 * (std::abs(real.p[k]) + gm.pi + 1.0));
-                    double rho = s * std::pow(pbar, 1.0 / gm.gamma);
-                    if (gm.tait) rho = gm.rho0 * std::pow(pbar / gm.B, 1.0 / gm.gamma);
-                    const Primitive g{rho, real.u[k], real.v[k], pbar - gm.pi};
-                    if (neg)
-                        plus_.set_cell_state(i, j, g);
-                    else
-                        minus_.set_cell_state(i, j, g);
-                }
-            }
+        fill_bands(fm, fp, sm, sp, un, band);
         if (set_.method == GhostMethod::Real)
             for (size_t c = 0; c < cells.size(); ++c) {
                 const int i = cells[c][0], j = cells[c][1];

@@ -4,6 +4,7 @@
 #include "fluid/characteristic.hpp"
 #include "fluid/eos_stiffened_gas.hpp"
 #include "fluid/eos_tait.hpp"
+#include "fluid/euler.hpp"
 #include "fluid/flux_hllc.hpp"
 #include "fluid/indicator_tvb.hpp"
 #include "fluid/limiter_weno.hpp"
@@ -19,7 +20,8 @@ TEST(Basis, OrthogonalWithStatedNorms2D) {
     for (int l = 0; l < B::NB; ++l)
         for (int m = 0; m < B::NB; ++m) {
             double s = 0;
-            for (int q = 0; q < B::NQV; ++q) s += t.wv[q] * t.phiv[q][l] * t.phiv[q][m];
+            for (int q = 0; q < B::NQV; ++q)
+                s += t.wv[q] * t.phiv[q][l] * t.phiv[q][m];
             EXPECT_NEAR(s, l == m ? B::norm(l) : 0.0, 1e-14) << l << "," << m;
         }
 }
@@ -29,18 +31,20 @@ TEST(Basis, ShiftOfNeighbourReproducesAGlobalQuadratic) {
     // cell, must equal its own coefficients in the left cell.
     using B = Basis<1, 2>;
     WenoTables<1, 2> w;
-    auto f = [](double x) { return 1 + 2 * x + 3 * x * x; };         // x in units of Δx/2, left centre 0
-    auto coeffs = [&](double centre) {                              // L2 projection by 3-point Gauss
+    auto f = [](double x) { return 1 + 2 * x + 3 * x * x; }; // x in units of Δx/2, left centre 0
+    auto coeffs = [&](double centre) {                       // L2 projection by 3-point Gauss
         std::array<double, 3> c{};
         const double g[3] = {-std::sqrt(0.6), 0, std::sqrt(0.6)}, wt[3] = {5 / 18., 8 / 18., 5 / 18.};
         for (int l = 0; l < 3; ++l)
-            for (int q = 0; q < 3; ++q) c[l] += wt[q] * f(centre + g[q]) * B::phi(l, g[q], 0) / B::norm(l);
+            for (int q = 0; q < 3; ++q)
+                c[l] += wt[q] * f(centre + g[q]) * B::phi(l, g[q], 0) / B::norm(l);
         return c;
     };
     const auto left = coeffs(0), right = coeffs(2);
     for (int l = 0; l < 3; ++l) {
         double s = 0;
-        for (int m = 0; m < 3; ++m) s += w.shift[1][l][m] * right[m]; // neighbour +x seen from the left cell
+        for (int m = 0; m < 3; ++m)
+            s += w.shift[1][l][m] * right[m]; // neighbour +x seen from the left cell
         EXPECT_NEAR(s, left[l], 1e-12);
     }
 }
@@ -50,7 +54,8 @@ template <class EV> void expect_inverse(const EV& e, int nv, double condition) {
     for (int i = 0; i < nv; ++i)
         for (int j = 0; j < nv; ++j) {
             double s = 0;
-            for (int k = 0; k < nv; ++k) s += e.L[i][k] * e.R[k][j];
+            for (int k = 0; k < nv; ++k)
+                s += e.L[i][k] * e.R[k][j];
             EXPECT_NEAR(s, i == j ? 1.0 : 0.0, 1e-14 * condition) << i << "," << j;
         }
 }
@@ -80,11 +85,13 @@ TEST(Characteristic, RightEigenvectorsAreEigenvectorsOfTheJacobian) {
     for (int k = 0; k < 3; ++k) {
         const double h = 1e-6 * rho;
         double Up[3], Um[3], Fp[3], Fm[3];
-        for (int v = 0; v < 3; ++v) Up[v] = U[v] + h * e.R[v][k], Um[v] = U[v] - h * e.R[v][k];
+        for (int v = 0; v < 3; ++v)
+            Up[v] = U[v] + h * e.R[v][k], Um[v] = U[v] - h * e.R[v][k];
         flux(Up, Fp);
         flux(Um, Fm);
         for (int v = 0; v < 3; ++v)
-            EXPECT_NEAR((Fp[v] - Fm[v]) / (2 * h), lambda[k] * e.R[v][k], 1e-5 * (1 + std::abs(lambda[k] * e.R[v][k])));
+            EXPECT_NEAR((Fp[v] - Fm[v]) / (2 * h), lambda[k] * e.R[v][k],
+                        1e-5 * (1 + std::abs(lambda[k] * e.R[v][k])));
     }
 }
 
@@ -101,6 +108,37 @@ TEST(Eos, StiffenedGasRoundTrip) {
     const double rho = 1000, p = 1e5;
     EXPECT_NEAR(w.pressure(rho, w.internal_energy(rho, p)), p, 1e-6);
     EXPECT_NEAR(w.sound_speed(rho, p), std::sqrt(7.15 * (p + 3.309e8) / rho), 1e-9);
+}
+
+// Both models satisfy the concept; a type lacking a member does not (a compile-time check).
+struct NoSoundSpeed : StiffenedGas {
+    double sound_speed(double, double) const = delete;
+};
+static_assert(EquationOfState<StiffenedGas> && EquationOfState<Tait>);
+static_assert(!EquationOfState<NoSoundSpeed>);
+
+TEST(Eos, IsentropeDensityStaysOnTheIsentrope) {
+    StiffenedGas g{1.4, 1e5};
+    const double rho = 1.2, p = 2e5, p_new = 7e5;
+    const double r = g.isentrope_density(rho, p, p_new);
+    EXPECT_NEAR((p_new + 1e5) / std::pow(r, 1.4), (p + 1e5) / std::pow(rho, 1.4), 1e-9 * (p + 1e5));
+    Tait w;
+    EXPECT_NEAR(w.pressure(w.isentrope_density(1000.0, 1e5, 5e7), 0), 5e7, 1e-3);
+}
+
+// Conserved -> primitive -> conserved is the identity to rounding, for both models and in 2D.
+TEST(Euler, ConservedPrimitiveRoundTrip) {
+    const double q[4] = {1.3, 1.3 * 40, 1.3 * -25, 3e5};
+    auto check = [&](const auto& eos) {
+        const Primitive w = euler::to_primitive<2>(eos, q);
+        EXPECT_NEAR(euler::pressure<2>(eos, q), w.p, 1e-9 * std::abs(w.p) + 1e-6);
+        double back[4];
+        euler::to_conserved<2>(eos, w, back);
+        for (int v = 0; v < 4; ++v)
+            EXPECT_NEAR(back[v], q[v], 1e-12 * std::abs(q[v]));
+    };
+    check(StiffenedGas{1.4, 0});
+    check(StiffenedGas{7.15, 1e5});
 }
 
 TEST(Cavitation, MixtureMeetsLiquidAndInvertsMonotonically) {
