@@ -1,7 +1,7 @@
 #!/bin/bash
 # Installs what is missing of the Debian packages the project builds and runs with.
 set -euo pipefail
-packages=(cmake g++ make pkg-config libzmq3-dev cppzmq-dev libeigen3-dev libhdf5-dev libprotobuf-dev
+packages=(cmake g++ make pkg-config libzmq3-dev cppzmq-dev libhdf5-dev libprotobuf-dev
           protobuf-compiler libgtest-dev python3 python3-numpy python3-h5py python3-matplotlib
           python3-zmq python3-protobuf libcli11-dev)
 missing=()
