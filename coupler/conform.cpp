@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -35,8 +36,8 @@ class Subject {
     Subject(const std::vector<std::string>& command, const std::string& endpoint, const std::string& log) {
         std::string line = "exec";
         for (const auto& a : command)
-            line += " " + shell_quote(a);
-        line += " --couple " + shell_quote(endpoint);
+            line.append(" ").append(shell_quote(a));
+        line.append(" --couple ").append(shell_quote(endpoint));
         pid_ = fork();
         if (pid_ < 0)
             throw std::runtime_error(std::string("cannot start the solver: ") + std::strerror(errno));
@@ -150,7 +151,11 @@ struct Sessions {
     double timeout; // seconds
     int n = 0;
     int ms() const { return static_cast<int>(timeout * 1000); }
-    std::string next_endpoint() { return "ipc://" + (dir / ("s" + std::to_string(++n) + ".ipc")).string(); }
+    std::string next_endpoint() {
+        char name[32];
+        std::snprintf(name, sizeof name, "s%d.ipc", ++n);
+        return "ipc://" + (dir / name).string();
+    }
     std::string log() const { return (dir / ("solver-" + std::to_string(n) + ".log")).string(); }
 };
 
