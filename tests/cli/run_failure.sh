@@ -23,5 +23,16 @@ check "last good state is finite" \
 # `undex sample` reads the same file.
 "$undex" sample "$dir/out" --time 0 --line "0.1,0 0.9,0" --points 5 --fields rho,p >"$dir/sample" 2>&1
 check "sample prints a header and 5 rows" '[ "$(grep -c "^x,y,rho,p$" "$dir/sample")" = 1 ] && [ "$(grep -vc "^[#x]" "$dir/sample")" = 5 ]'
+# numerics.max_steps ends any solver's run the same way (the run driver, base/run_driver.cpp): exit status 2,
+# the limit named, the last good state written at exactly that step, for the fluid and for a structure.
+for spec in "sod_1d fluid.h5" "sandwich_column_1d solid.h5"; do
+    read -r name file <<<"$spec"
+    "$undex" run "$cases/$name.case" --set numerics.max_steps=7 -o "$dir/steps_$name" >"$dir/log_$name" 2>&1
+    status=$?
+    check "$name: max_steps gives exit status 2 (got $status)" '[ $status -eq 2 ]'
+    check "$name: the message names numerics.max_steps" 'grep -q "numerics.max_steps = 7 reached" "$dir/log_$name"'
+    check "$name: the last good state is step 7, status failed" \
+        '/usr/bin/python3 -c "import h5py,sys; f=h5py.File(\"$dir/steps_$name/$file\",\"r\"); g=f[\"fields\"][sorted(f[\"fields\"])[-1]]; sys.exit(0 if g.attrs[\"last_good\"]==1 and g.attrs[\"step\"]==7 and f.attrs[\"status\"].decode().startswith(\"failed: stopped: numerics.max_steps\") else 1)"'
+done
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
