@@ -52,7 +52,7 @@ void step_to_end(Run& run, const RunPlan& plan, std::ostream& log, Clock::time_p
     for (;;) {
         if (run.owns_clock() && clock.done(run.time())) break;
         if (stop_requested()) throw RunFailure(exit_stopped, "stopped by a signal (SIGINT or SIGTERM)");
-        if (run.steps() >= plan.max_steps)
+        if (run.owns_clock() && run.steps() >= plan.max_steps) // a partner's clock is the partner's to stop
             throw RunFailure(exit_method_failed,
                              "stopped: numerics.max_steps = " + std::to_string(plan.max_steps) +
                                  " reached at t = " + format("%.6g", run.time()) + " s");

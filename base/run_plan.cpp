@@ -74,8 +74,22 @@ bool writable_directory(const std::string& directory) {
     return false;
 }
 
-void validate_coupling(const CaseFile& cf) {
-    const auto& k = cf.get().coupling();
+void validate_plan(const CaseFile& cf) {
+    const cfg::Case& c = cf.get();
+    if (!(c.end_time() > 0)) cf.fail("end_time", "must be positive");
+    const auto& o = c.output();
+    for (int k = 0; k < o.times_size(); ++k)
+        if (!(o.times(k) > 0 && o.times(k) <= c.end_time()))
+            cf.fail("output.times",
+                    "output time " + std::to_string(o.times(k)) + " s lies outside (0, end_time]");
+    if (!(o.interval() >= 0)) cf.fail("output.interval", "must be ≥ 0");
+    if (!(o.progress_seconds() > 0)) cf.fail("output.progress_seconds", "must be positive");
+    if (o.gauge_every() < 1) cf.fail("output.gauge_every", "must be ≥ 1");
+    if (c.numerics().max_steps() < 1) cf.fail("numerics.max_steps", "must be ≥ 1");
+    const RunPlan rp = plan(cf);
+    if (!writable_directory(rp.directory))
+        cf.fail("output.directory", "cannot write the output directory '" + rp.directory + "'");
+    const auto& k = c.coupling();
     if (!(k.timeout() > 0 && k.timeout() <= 86400))
         cf.fail("coupling.timeout", "must lie in (0, 86400] s (got " + std::to_string(k.timeout()) + ")");
     if (!(k.handshake_timeout() > 0 && k.handshake_timeout() <= 86400))

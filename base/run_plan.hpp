@@ -37,8 +37,10 @@ bool has_structure(const CaseFile& c);
 RunPlan plan(const CaseFile& c);
 // Whether an output directory can be created or written (tested for real, leaving nothing behind).
 bool writable_directory(const std::string& directory);
-// Checks the case's coupling timeouts (used by both solvers).
-void validate_coupling(const CaseFile& c);
+// Checks what every solver's run reads of the case (throws CaseError naming the field): end time, output
+// times, interval, progress interval, gauge cadence, numerics.max_steps, the output directory, the coupling
+// timeouts.
+void validate_plan(const CaseFile& c);
 // A prescribed pressure history p(t) (exponential or table) of a case, checked and as a function; shared by
 // fluid boundaries and structure faces.
 void validate_pressure_history(const CaseFile& c, const config::PressureHistory& h, const std::string& path);

@@ -361,7 +361,6 @@ void validate_numerics(const CaseFile& cf) {
     if (!(n.positivity_epsilon() > 0 && n.positivity_epsilon() < 1))
         cf.fail("numerics.positivity_epsilon", "must lie in (0, 1)");
     if (n.threads() < 0) cf.fail("numerics.threads", "must be ≥ 0");
-    if (n.max_steps() < 1) cf.fail("numerics.max_steps", "must be ≥ 1");
 }
 
 // Cavitation.
@@ -383,23 +382,11 @@ void validate_cavitation(const CaseFile& cf) {
     }
 }
 
-// Time, output and gauges.
-void validate_output(const CaseFile& cf) {
+// Gauges (base/run_plan.hpp checks times and output).
+void validate_gauges(const CaseFile& cf) {
     const cfg::Case& c = cf.get();
     const bool two_d = is_2d(c.geometry());
     const auto& d = c.domain();
-    if (!(c.end_time() > 0)) cf.fail("end_time", "must be positive");
-    const auto& o = c.output();
-    for (int k = 0; k < o.times_size(); ++k)
-        if (!(o.times(k) > 0 && o.times(k) <= c.end_time()))
-            cf.fail("output.times",
-                    "output time " + std::to_string(o.times(k)) + " s lies outside (0, end_time]");
-    if (!(o.interval() >= 0)) cf.fail("output.interval", "must be ≥ 0");
-    if (!(o.progress_seconds() > 0)) cf.fail("output.progress_seconds", "must be positive");
-    if (o.gauge_every() < 1) cf.fail("output.gauge_every", "must be ≥ 1");
-    const RunPlan rp = plan(cf);
-    if (!writable_directory(rp.directory))
-        cf.fail("output.directory", "cannot write the output directory '" + rp.directory + "'");
     for (int g = 0; g < c.gauges_size(); ++g) {
         const auto& ga = c.gauges(g);
         const std::string p = "gauges[" + std::to_string(g) + "]";
@@ -415,7 +402,7 @@ void validate_output(const CaseFile& cf) {
 } // namespace
 
 void validate(const CaseFile& cf) {
-    undex::validate_coupling(cf);
+    undex::validate_plan(cf);
     validate_domain(cf);
     validate_materials(cf);
     validate_regions(cf);
@@ -423,7 +410,7 @@ void validate(const CaseFile& cf) {
     validate_boundaries(cf);
     validate_numerics(cf);
     validate_cavitation(cf);
-    validate_output(cf);
+    validate_gauges(cf);
 }
 
 namespace {

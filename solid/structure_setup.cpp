@@ -126,7 +126,7 @@ void apply_plate_conditions(const cfg::Structure& st, const LayeredPlate& lp, Pl
 
 RigidPlateModel make_rigid_plate(const CaseFile& cf) {
     const auto& c = cf.get();
-    undex::validate_coupling(cf);
+    undex::validate_plan(cf);
     const auto& st = c.structure();
     if (!st.has_rigid_plate()) cf.fail("structure.rigid_plate", "the structure is not a rigid plate");
     if (c.geometry() != cfg::PLANAR_1D) cf.fail("geometry", "a rigid plate is a 1D structure: PLANAR_1D");
@@ -159,7 +159,7 @@ RigidPlateModel make_rigid_plate(const CaseFile& cf) {
 
 void check_structure(const CaseFile& cf) {
     const auto& st = cf.get().structure();
-    undex::validate_coupling(cf);
+    undex::validate_plan(cf);
     if (st.has_command()) {
         if (st.command().find_first_not_of(" \t") == std::string::npos)
             cf.fail("structure.command", "the command is empty");
@@ -247,10 +247,6 @@ void check_conditions(const CaseFile& cf) {
                 "unknown kinematics '" + st.kinematics() + "'; choose uniaxial_stress or uniaxial_strain");
     if (!(st.safety() > 0 && st.safety() <= 1))
         cf.fail("structure.safety", "safety factor must lie in (0, 1]");
-    if (!(c.end_time() > 0)) cf.fail("end_time", "must be positive");
-    const auto plan = undex::plan(cf);
-    if (!undex::writable_directory(plan.directory))
-        cf.fail("output.directory", "cannot write the output directory '" + plan.directory + "'");
     if (!(st.hourglass() >= 0)) cf.fail("structure.hourglass", "hourglass factor must be >= 0");
     if (st.threads() < 0) cf.fail("structure.threads", "must be >= 0");
 }
@@ -342,7 +338,7 @@ std::unique_ptr<Column1D> make_column(const CaseFile& cf, const std::vector<Laye
 StructureModel make_structure(const CaseFile& cf) {
     const auto& c = cf.get();
     if (!c.has_structure()) cf.fail("structure", "the case has no structure");
-    undex::validate_coupling(cf);
+    undex::validate_plan(cf);
     const auto& st = c.structure();
     if (st.has_rigid_plate())
         cf.fail("structure.rigid_plate", "a rigid plate is solved by undex-rigid, not undex-solid");

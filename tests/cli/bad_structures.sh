@@ -120,6 +120,11 @@ bad pressure-without-history 's/front { type: PRESSURE pressure {[^}]*} }/front 
 bad unwritable-output 's|"@OUT@"|"/proc/undex-cannot-write"|' 14 'output.directory'
 bad gauge-outside 's/x: 0.049/x: 0.06/' 11 'structure.gauges[0].x'
 bad unknown-kinematics 's/back { type: FREE }/back { type: FREE } kinematics: "bent"/' 11 'structure.kinematics'
+# What every solver's run reads (base/run_plan.cpp validate_plan), checked for a structure alone too.
+bad zero-gauge-every 's|output { directory: "@OUT@" }|output { directory: "@OUT@" gauge_every: 0 }|' 14 'output.gauge_every'
+bad zero-progress 's|output { directory: "@OUT@" }|output { directory: "@OUT@" progress_seconds: 0 }|' 14 'output.progress_seconds'
+bad output-after-end 's|output { directory: "@OUT@" }|output { directory: "@OUT@" times: [2e-3] }|' 14 'output.times'
+bad zero-max-steps 's|output { directory: "@OUT@" }|output { directory: "@OUT@" } numerics { max_steps: 0 }|' 14 'numerics.max_steps'
 
 bad plate-in-1d 's/back { type: FREE }/back { type: FREE } plate { span: 1 element_size: 0.1 left { type: FREE } right { type: FREE } }/' 11 'structure.plate'
 
