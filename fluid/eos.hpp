@@ -31,7 +31,9 @@ concept EquationOfState = std::copyable<E> && requires(const E& eos, double rho,
     { eos.isentrope_density(rho, p, p) } -> std::same_as<double>;
     // Density of a wall ghost held at p_wall next to a cell (ρ, p) (structure boundary ghost).
     { eos.wall_density(rho, p, p) } -> std::same_as<double>;
-    // Original ghost fluid method: density of entropy function s = ρ/(p + Π)^(1/γ) at p̄ = p + Π.
+    // Original ghost fluid method: the entropy function s = ρ/(p + Π)^(1/γ) of a state, and the density of
+    // entropy function s at p̄ = p + Π.
+    { eos.entropy(rho, p) } -> std::same_as<double>;
     { eos.entropy_density(rho, p) } -> std::same_as<double>;
     // The material seen by the two-material interface Riemann solver (γ, Π, Tait shock data).
     { eos.riemann_material() } -> std::same_as<RiemannMaterial>;

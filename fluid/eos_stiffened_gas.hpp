@@ -2,6 +2,7 @@
 #pragma once
 #include "fluid/eos.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace undex::fluid {
@@ -28,6 +29,10 @@ struct StiffenedGas {
     }
     double wall_density(double rho, double p, double p_wall) const {
         return isentrope_density(rho, p, p_wall);
+    }
+    // The entropy function of the original ghost fluid method, s = ρ / (p + P∞)^(1/γ), and its inverse.
+    double entropy(double rho, double p) const {
+        return rho / std::pow(std::max(p + p_inf, 1e-300), 1.0 / gamma);
     }
     double entropy_density(double s, double pbar) const { return s * std::pow(pbar, 1.0 / gamma); }
     RiemannMaterial riemann_material() const {

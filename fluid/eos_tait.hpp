@@ -44,6 +44,11 @@ struct Tait {
     double wall_density(double rho, double /*p*/, double p_wall) const {
         return cavitation && p_wall <= cav.p_cav ? std::min(rho, cav.rho_l_cav) : density(p_wall);
     }
+    // The entropy function of the original ghost fluid method, s = ρ / (p + B − A)^(1/γ) (constant for Tait
+    // water, which is isentropic).
+    double entropy(double rho, double p) const {
+        return rho / std::pow(std::max(p + (B - A), 1e-300), 1.0 / gamma);
+    }
     // ρ(p̄) with p̄ = p + B − A; the entropy s plays no part.
     double entropy_density(double /*s*/, double pbar) const { return rho0 * std::pow(pbar / B, 1.0 / gamma); }
     RiemannMaterial riemann_material() const {

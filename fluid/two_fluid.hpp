@@ -320,14 +320,14 @@ class TwoFluid final : public FluidSolver {
         Fields fm = read_fields(minus_, true), fp = read_fields(plus_, false);
         std::vector<double> un(n, 0.0);
         std::vector<char> un_known(n, 0);
-        // Original GFM: entropy-like quantity S = ρ / (p + Π)^(1/γ) of each fluid, extrapolated from its
+        // Original GFM: the entropy function of each fluid (EquationOfState::entropy), extrapolated from its
         // side.
         std::vector<double> sm, sp;
         if (set_.method == GhostMethod::Original) {
             sm.resize(n), sp.resize(n);
             for (long k = 0; k < n; ++k) {
-                sm[k] = fm.rho[k] / std::pow(std::max(fm.p[k] + mat_m_.pi, 1e-300), 1.0 / mat_m_.gamma);
-                sp[k] = fp.rho[k] / std::pow(std::max(fp.p[k] + mat_p_.pi, 1e-300), 1.0 / mat_p_.gamma);
+                sm[k] = minus_.eos().entropy(fm.rho[k], fm.p[k]);
+                sp[k] = plus_.eos().entropy(fp.rho[k], fp.p[k]);
             }
         }
         const std::vector<std::array<int, 2>> cells = interface_cells();

@@ -1,13 +1,20 @@
 #!/usr/bin/python3
 """Digests of every output dataset of every case in cases/, for refactors that must not change results.
 
-    output_digests.py BIN_DIR CASES_DIR WORK_DIR [--runs N] [--case NAME]...
+    output_digests.py BIN_DIR CASES_DIR WORK_DIR [--runs N] [--case NAME]... [--variant NAME]...
 
-Runs each case of CASES_DIR with `undex run` at a short end time (one OpenMP thread per side, output times
-dropped so that only the start and the end are written), N times (default 2), and prints one line per
-dataset and attribute of fluid.h5 / solid.h5:
+Runs each case of CASES_DIR with `undex run` at a short end time (one OpenMP thread per side), N times
+(default 2), in variants that reach different parts of the run loop:
 
-    CASE FILE OBJECT sha256
+    short         output times dropped: only the start and the end are written
+    outputs       two output times inside the run: steps cut to land on them, fields and histories there
+    max_steps     numerics.max_steps = 7 (cases with a fluid, which owns the clock): the failure path, the
+                  last good state, a coupled partner told
+    original_gfm  interface.method = original_gfm (cases with two fluids)
+
+and prints one line per dataset and attribute of fluid.h5 / solid.h5:
+
+    CASE/VARIANT FILE OBJECT sha256
 
 Attributes that hold the path of the run (the case text names the output directory) are digested after
 the work directory is replaced by a fixed name. Exits 1 when the runs of one case disagree (the outputs do
@@ -64,20 +71,41 @@ def digest_file(path, work):
     return lines
 
 
-def run_case(bin_dir, case_path, name, work):
+# Variants: (applies to the case text, extra --set overrides, output times as fractions of the end time).
+VARIANTS = {
+    "short": (lambda text: True, [], []),
+    "outputs": (lambda text: True, [], [1 / 3, 2 / 3]),
+    "max_steps": (lambda text: re.search(r"^regions\b", text, re.M), ["numerics.max_steps=7"], []),
+    "original_gfm": (lambda text: re.search(r"^interface\s*\{", text, re.M), ["interface.method=original_gfm"],
+                     []),
+}
+
+
+def run_case(bin_dir, case_path, name, variant, work):
     text = open(case_path).read()
-    text = re.sub(r"\btimes\s*:\s*\[[^\]]*\]", "", text)  # only the start and the end time are written
+    text = re.sub(r"\btimes\s*:\s*\[[^\]]*\]", "", text)
     text = re.sub(r"\binterval\s*:\s*[0-9.eE+-]+", "", text)
+    applies, overrides, fractions = VARIANTS[variant]
+    if not applies(text):
+        return None
+    end = END_TIMES[name]
+    if fractions:
+        times = "times: [" + ", ".join(repr(f * end) for f in fractions) + "] "
+        text, n = re.subn(r"^output\s*\{", "output { " + times, text, flags=re.M)
+        if n == 0:
+            text += "\noutput { " + times + "}\n"
     os.makedirs(work, exist_ok=True)
     case = os.path.join(work, name + ".case")
     with open(case, "w") as f:
         f.write(text)
     out = os.path.join(work, "out")
     env = dict(os.environ, OMP_NUM_THREADS="1")
-    cmd = [os.path.join(bin_dir, "undex"), "run", case, "--set", f"end_time={END_TIMES[name]}",
+    cmd = [os.path.join(bin_dir, "undex"), "run", case, "--set", f"end_time={end}",
            "--set", f"output.directory={out}"]
+    for o in overrides:
+        cmd += ["--set", o]
     r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if r.returncode != 0:
+    if r.returncode != (2 if variant == "max_steps" else 0):
         sys.exit(f"{name}: {' '.join(cmd)} failed ({r.returncode}):\n{r.stdout}")
     lines = []
     for file in ("fluid.h5", "solid.h5"):
@@ -94,19 +122,23 @@ def main():
     ap.add_argument("work_dir")
     ap.add_argument("--runs", type=int, default=2)
     ap.add_argument("--case", action="append")
+    ap.add_argument("--variant", action="append", choices=sorted(VARIANTS))
     a = ap.parse_args()
     names = a.case or sorted(f[:-5] for f in os.listdir(a.cases_dir) if f.endswith(".case"))
     for name in names:
         if name not in END_TIMES:
             sys.exit(f"{name}: no short end time in {__file__}: add one")
-        work = os.path.abspath(os.path.join(a.work_dir, name))
-        runs = [run_case(a.bin_dir, os.path.join(a.cases_dir, name + ".case"), name, work)
-                for _ in range(a.runs)]
-        if any(r != runs[0] for r in runs[1:]):
-            sys.exit(f"{name}: the {a.runs} runs give different outputs")
-        for file, obj, d in runs[0]:
-            print(name, file, obj, d)
-        print(f"{name}: {len(runs[0])} digests, reproduced in {a.runs} runs", file=sys.stderr)
+        for variant in a.variant or list(VARIANTS):
+            work = os.path.abspath(os.path.join(a.work_dir, name, variant))
+            runs = [run_case(a.bin_dir, os.path.join(a.cases_dir, name + ".case"), name, variant, work)
+                    for _ in range(a.runs)]
+            if runs[0] is None:
+                continue
+            if any(r != runs[0] for r in runs[1:]):
+                sys.exit(f"{name}/{variant}: the {a.runs} runs give different outputs")
+            for file, obj, d in runs[0]:
+                print(f"{name}/{variant}", file, obj, d)
+            print(f"{name}/{variant}: {len(runs[0])} digests, reproduced in {a.runs} runs", file=sys.stderr)
 
 
 if __name__ == "__main__":
