@@ -1,5 +1,6 @@
 #include "base/h5.hpp"
 
+#include <filesystem>
 #include <stdexcept>
 
 namespace undex::h5 {
@@ -124,6 +125,14 @@ hid_t open_read(const std::string& path) {
     hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0) throw std::runtime_error(path + ": cannot open (not an HDF5 output of undex?)");
     return f;
+}
+
+std::string output_file(const std::string& dir) {
+    const std::filesystem::path p(dir);
+    if (!std::filesystem::is_directory(p)) return dir;
+    if (!std::filesystem::exists(p / "fluid.h5") && std::filesystem::exists(p / "solid.h5"))
+        return (p / "solid.h5").string();
+    return (p / "fluid.h5").string();
 }
 
 StoredRun read_run(const std::string& h5_path) {

@@ -31,6 +31,9 @@ void write_table(hid_t file, const std::string& group, const std::vector<std::st
 // flushed while the run goes on; a negative id on failure.
 hid_t create(const std::string& path);
 
+// The output file of a run: DIR/fluid.h5, or DIR/solid.h5 for a structure-only run (no fluid.h5); a path
+// that is not a directory as it is.
+std::string output_file(const std::string& dir_or_file);
 // Reading back an output file of either solver: the case, the output times and groups, the gauge names.
 struct StoredRun {
     std::string case_text;

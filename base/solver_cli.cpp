@@ -45,6 +45,7 @@ void add_sample_options(CLI::App& app, Request& r) {
         ->needs(s);
     app.add_option("--points", r.sample.points, "number of points on the line, its ends included")
         ->type_name("N")
+        ->check(CLI::Range(1, std::numeric_limits<int>::max()))
         ->needs(s);
     app.add_option("--fields", r.sample.fields, "the fields printed (default: rho,u,v,p)")
         ->type_name("rho,u,v,p")

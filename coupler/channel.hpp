@@ -3,8 +3,8 @@
 // renew, and a monitor of the connection so that a peer whose process ends is noticed without waiting for the
 // timeout. Every failure throws CouplingError naming the peer, the step and the cause.
 #pragma once
-#include "proto/coupling.pb.h"
 #include "coupler/participant.hpp"
+#include "proto/coupling.pb.h"
 
 #include <zmq.hpp>
 

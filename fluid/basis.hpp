@@ -31,14 +31,20 @@ template <int D, int K> struct Basis {
 
     // Gauss–Legendre points on [−1, 1] and weights normalised to sum to one.
     static std::array<double, NQ1> gauss_points() {
-        if constexpr (NQ1 == 1) return {0.0};
-        else if constexpr (NQ1 == 2) return {-1.0 / std::sqrt(3.0), 1.0 / std::sqrt(3.0)};
-        else return {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
+        if constexpr (NQ1 == 1)
+            return {0.0};
+        else if constexpr (NQ1 == 2)
+            return {-1.0 / std::sqrt(3.0), 1.0 / std::sqrt(3.0)};
+        else
+            return {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
     }
     static std::array<double, NQ1> gauss_weights() {
-        if constexpr (NQ1 == 1) return {1.0};
-        else if constexpr (NQ1 == 2) return {0.5, 0.5};
-        else return {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+        if constexpr (NQ1 == 1)
+            return {1.0};
+        else if constexpr (NQ1 == 2)
+            return {0.5, 0.5};
+        else
+            return {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
     }
 };
 
@@ -46,13 +52,13 @@ template <int D, int K> struct Basis {
 template <int D, int K> struct BasisTables {
     using B = Basis<D, K>;
     static constexpr int NB = B::NB, NQV = B::NQV, NQF = B::NQF;
-    double wv[NQV];                 // volume weights
-    double xiv[NQV], etav[NQV];     // volume points
-    double phiv[NQV][NB];           // φ_l at volume points
-    double dxiv[NQV][NB];           // ∂φ_l/∂ξ
-    double detav[NQV][NB];          // ∂φ_l/∂η
-    double wf[NQF];                 // face weights
-    double sf[NQF];                 // face point coordinate along the face
+    double wv[NQV];             // volume weights
+    double xiv[NQV], etav[NQV]; // volume points
+    double phiv[NQV][NB];       // φ_l at volume points
+    double dxiv[NQV][NB];       // ∂φ_l/∂ξ
+    double detav[NQV][NB];      // ∂φ_l/∂η
+    double wf[NQF];             // face weights
+    double sf[NQF];             // face point coordinate along the face
     // face[dir][side][g][l]: φ_l on face side (0: ξ or η = −1, 1: = +1) of direction dir at point g.
     double face[2][2][NQF][NB];
     double inv_norm[NB];
@@ -81,7 +87,8 @@ template <int D, int K> struct BasisTables {
                     face[1][side][f][l] = B::phi(l, sf[f], e);
                 }
         }
-        for (int l = 0; l < NB; ++l) inv_norm[l] = 1.0 / B::norm(l);
+        for (int l = 0; l < NB; ++l)
+            inv_norm[l] = 1.0 / B::norm(l);
     }
 };
 

@@ -14,11 +14,12 @@ template <int NV> struct Eigenvectors {
 template <int NV, int Dir>
 inline Eigenvectors<NV> euler_eigenvectors(double rho, const double* vel, double a, double gruneisen) {
     static_assert(NV == 3 || NV == 4);
-    constexpr int n = 1 + Dir;          // normal momentum component
+    constexpr int n = 1 + Dir; // normal momentum component
     constexpr int E = NV - 1;
     Eigenvectors<NV> e{};
     double q2 = 0;
-    for (int d = 0; d < NV - 2; ++d) q2 += vel[d] * vel[d];
+    for (int d = 0; d < NV - 2; ++d)
+        q2 += vel[d] * vel[d];
     (void)rho;
     const double un = vel[Dir];
     const double H = a * a / gruneisen + 0.5 * q2;
@@ -27,7 +28,8 @@ inline Eigenvectors<NV> euler_eigenvectors(double rho, const double* vel, double
     // Right eigenvectors (columns).
     for (int k : {0, ent, last}) {
         e.R[0][k] = 1.0;
-        for (int d = 0; d < NV - 2; ++d) e.R[1 + d][k] = vel[d];
+        for (int d = 0; d < NV - 2; ++d)
+            e.R[1 + d][k] = vel[d];
     }
     e.R[n][0] = un - a;
     e.R[E][0] = H - un * a;
@@ -72,7 +74,8 @@ template <int NV, int Dir> inline Eigenvectors<NV> barotropic_eigenvectors(const
     const int lastw = NV - 1;
     for (int k : {0, lastw}) {
         e.R[0][k] = 1.0;
-        for (int d = 0; d < NV - 2; ++d) e.R[1 + d][k] = vel[d];
+        for (int d = 0; d < NV - 2; ++d)
+            e.R[1 + d][k] = vel[d];
     }
     e.R[n][0] = un - a;
     e.R[n][lastw] = un + a;

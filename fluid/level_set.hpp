@@ -170,7 +170,8 @@ class LevelSet {
         size_t z = 0;
         for (int i = 0; i < nx_; ++i) {
             const double x = i * dx_;
-            while (z + 1 < zeros.size() && std::abs(zeros[z + 1] - x) < std::abs(zeros[z] - x)) ++z;
+            while (z + 1 < zeros.size() && std::abs(zeros[z + 1] - x) < std::abs(zeros[z] - x))
+                ++z;
             phi_[i] = std::copysign(std::abs(x - zeros[z]), phi_[i] < 0 ? -1.0 : 1.0);
         }
     }

@@ -10,9 +10,9 @@ namespace undex::fluid {
 template <int D, int K> struct WenoTables {
     using B = Basis<D, K>;
     static constexpr int NB = B::NB;
-    static constexpr int NN = 2 * D;   // face neighbours: −x, +x, −y, +y
-    double shift[NN][NB][NB];         // coefficients of a neighbour's polynomial in this cell's basis
-    double smooth[NB][NB];            // β = cᵀ S c
+    static constexpr int NN = 2 * D; // face neighbours: −x, +x, −y, +y
+    double shift[NN][NB][NB];        // coefficients of a neighbour's polynomial in this cell's basis
+    double smooth[NB][NB];           // β = cᵀ S c
 
     WenoTables() {
         // 3-point Gauss per direction integrates products of degree-2 polynomials exactly.
@@ -40,15 +40,19 @@ template <int D, int K> struct WenoTables {
                     for (int j = 0; j < nq2; ++j) {
                         const double xi = g[i], eta = D == 1 ? 0.0 : g[j];
                         const double wq = D == 1 ? w[i] : w[i] * w[j];
-                        const double h = 1e-3; // second derivatives of quadratics by exact central differences
+                        const double h =
+                            1e-3; // second derivatives of quadratics by exact central differences
                         auto d = [&](int f, int a, int b) {
                             // ∂^{a+b} φ_f /∂ξ^a ∂η^b at (xi, eta); quadratics make these differences exact
                             // up to round-off.
                             if (a == 0 && b == 0) return B::phi(f, xi, eta);
                             if (a == 1 && b == 0) return B::dphi_dxi(f, xi, eta);
                             if (a == 0 && b == 1) return B::dphi_deta(f, xi, eta);
-                            if (a == 2) return (B::dphi_dxi(f, xi + h, eta) - B::dphi_dxi(f, xi - h, eta)) / (2 * h);
-                            if (b == 2) return (B::dphi_deta(f, xi, eta + h) - B::dphi_deta(f, xi, eta - h)) / (2 * h);
+                            if (a == 2)
+                                return (B::dphi_dxi(f, xi + h, eta) - B::dphi_dxi(f, xi - h, eta)) / (2 * h);
+                            if (b == 2)
+                                return (B::dphi_deta(f, xi, eta + h) - B::dphi_deta(f, xi, eta - h)) /
+                                       (2 * h);
                             return (B::dphi_dxi(f, xi, eta + h) - B::dphi_dxi(f, xi, eta - h)) / (2 * h);
                         };
                         s += wq * 4.0 * d(l, 1, 0) * d(m, 1, 0);

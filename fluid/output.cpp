@@ -167,7 +167,6 @@ void Output::write_xdmf() const {
     std::filesystem::rename(tmp, path);
 }
 
-
 std::vector<double> read_coefficients(const std::string& h5_path, const std::string& group) {
     hid_t f = open_read(h5_path);
     auto c = read_dataset(f, group + "/coefficients");
@@ -183,6 +182,5 @@ std::vector<double> read_level_set(const std::string& h5_path, const std::string
     H5Fclose(f);
     return phi;
 }
-
 
 } // namespace undex::fluid

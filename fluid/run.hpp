@@ -10,8 +10,9 @@ class CaseFile;
 
 namespace undex::fluid {
 
-// Returns 0 on success, 2 when the solver met a state it cannot hold, 3 when the coupling failed (both after
-// writing the last good state). Throws CaseError for a bad case (before anything is written). A case with a
+// Returns an exit status of base/exit_status.hpp: 0 on success, 2 when the solver met a state it cannot hold
+// or reached numerics.max_steps, 3 when the coupling failed, 4 when stopped by a signal (all after writing
+// the last good state). Throws CaseError for a bad case (before anything is written). A case with a
 // structure couples through the endpoint couple (the fluid binds it; docs/protocol.md).
 int run(const CaseFile& c, std::ostream& log, const std::string& couple = "");
 

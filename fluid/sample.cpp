@@ -16,16 +16,6 @@ namespace undex::fluid {
 
 namespace {
 
-// The fluid.h5 of an output directory (or the file given).
-std::string fluid_h5(const std::string& dir) {
-    const std::filesystem::path p(dir);
-    if (!std::filesystem::is_directory(p)) return dir;
-    // A structure-only run has solid.h5 and no fluid.h5.
-    if (!std::filesystem::exists(p / "fluid.h5") && std::filesystem::exists(p / "solid.h5"))
-        return (p / "solid.h5").string();
-    return (p / "fluid.h5").string();
-}
-
 std::vector<double> parse_point(const std::string& s) {
     std::vector<double> v;
     std::stringstream ss(s);
@@ -59,7 +49,7 @@ int sample(const SampleRequest& r, std::FILE* out) {
     const int n = r.points;
     if (n < 1) throw UsageError("--points must be ≥ 1");
     const auto fields = checked_fields(r.fields);
-    const std::string h5 = fluid_h5(r.directory);
+    const std::string h5 = h5::output_file(r.directory);
     if (std::filesystem::path(h5).filename() == "solid.h5")
         throw std::runtime_error(h5 + ": sample evaluates fluid fields; a structure's fields are datasets of "
                                       "solid.h5 (fields/NNNNNN) and its gauges print with `undex gauges`");

@@ -2,7 +2,6 @@
 #pragma once
 #include "fluid/solver.hpp"
 
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>

@@ -18,8 +18,8 @@ struct CoupledRun {
 };
 
 // Runs both sides, their output interleaved on stdout and kept in DIR/fluid.log and DIR/solid.log; when one
-// side fails the other is stopped after a grace period, as both are on SIGINT or SIGTERM. Returns the exit
-// status of the side that failed first, 0 when both completed.
+// side fails the other is stopped after a grace period, as both are on SIGINT or SIGTERM. Returns the fluid's
+// exit status when it is not 0, else the structure's (128 + signal for a killed side).
 int run_coupled(const CoupledRun& r);
 
 } // namespace undex::launcher

@@ -14,15 +14,6 @@ namespace undex::launcher {
 
 namespace {
 
-std::string h5_of(const std::string& dir) {
-    const std::filesystem::path p(dir);
-    if (!std::filesystem::is_directory(p)) return dir;
-    // A structure-only run has solid.h5 and no fluid.h5.
-    if (!std::filesystem::exists(p / "fluid.h5") && std::filesystem::exists(p / "solid.h5"))
-        return (p / "solid.h5").string();
-    return (p / "fluid.h5").string();
-}
-
 // The gauge columns of an output: the structure output lists them, the fluid's are fixed.
 std::vector<std::string> columns_of(const std::string& h5) {
     if (std::filesystem::path(h5).filename() != "solid.h5") return {"t", "rho", "u", "v", "p"};
@@ -40,7 +31,7 @@ std::vector<std::string> columns_of(const std::string& h5) {
 } // namespace
 
 int gauges(const std::string& dir, const std::string& name) {
-    const std::string h5 = h5_of(dir);
+    const std::string h5 = h5::output_file(dir);
     const auto run = h5::read_run(h5);
     std::vector<std::string> names = run.gauge_names;
     if (!name.empty()) {

@@ -12,6 +12,7 @@
 //   undex conform [--timeout S] -- COMMAND...        check a structure solver against the protocol
 // Every command has --help; a command line undex cannot use exits with status 64, naming what is wrong.
 #include "base/case_file.hpp"
+#include "base/exit_status.hpp"
 #include "base/run_plan.hpp"
 #include "base/solver_cli.hpp"
 #include "coupler/conform.hpp"
@@ -24,6 +25,7 @@
 
 #include <algorithm>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -128,9 +130,10 @@ struct Request {
     CaseRequest case_request;
     std::string endpoint;
     bool tcp = false;
-    std::string dir, time, line, points, fields, gauge; // sample, gauges
-    double timeout = 10;                                // conform
-    std::vector<std::string> command;                   // conform
+    std::string dir, time, line, fields, gauge; // sample, gauges
+    int points = 0;
+    double timeout = 10;              // conform
+    std::vector<std::string> command; // conform
 };
 
 void add_sample(CLI::App& app, Request& r) {
@@ -145,7 +148,7 @@ void add_sample(CLI::App& app, Request& r) {
         ->required();
     s->add_option("--points", r.points, "number of points on the line, its ends included")
         ->type_name("N")
-        ->check(CLI::PositiveNumber)
+        ->check(CLI::Range(1, std::numeric_limits<int>::max()))
         ->required();
     s->add_option("--fields", r.fields, "the fields printed (default: rho,u,v,p)")->type_name("rho,u,v,p");
 }
@@ -179,8 +182,9 @@ int dispatch(const CLI::App& app, const Request& r) {
     if (cmd == "check") return check(r.case_request);
     if (cmd == "run") return run(r.case_request, r.endpoint, r.tcp);
     if (cmd == "sample") {
-        std::vector<std::string> args = {exe("undex-fluid"), "--sample", r.dir,      "--time", r.time,
-                                         "--line",           r.line,     "--points", r.points};
+        std::vector<std::string> args = {
+            exe("undex-fluid"),      "--sample", r.dir, "--time", r.time, "--line", r.line, "--points",
+            std::to_string(r.points)};
         if (!r.fields.empty()) args.insert(args.end(), {"--fields", r.fields});
         return exec(args);
     }
@@ -206,7 +210,7 @@ int main(int argc, char** argv) {
             std::cerr << "undex: error: unknown command '" << argv[1] << "'\n" << hint << "\n";
         else
             std::cerr << "undex: error: " << e.what() << "\n" << hint << "\n";
-        return 64;
+        return undex::exit_usage;
     }
     try {
         return dispatch(app, r);
@@ -215,12 +219,12 @@ int main(int argc, char** argv) {
         return e.status;
     } catch (const undex::CaseError& e) {
         std::cerr << "undex: error: " << e.what() << "\n";
-        return 1;
+        return undex::exit_bad_case;
     } catch (const std::invalid_argument& e) {
         std::cerr << "undex: error: " << e.what() << "\n" << hint << "\n";
-        return 64;
+        return undex::exit_usage;
     } catch (const std::exception& e) {
         std::cerr << "undex: error: " << e.what() << "\n";
-        return 1;
+        return undex::exit_bad_case;
     }
 }

@@ -194,10 +194,15 @@ class Plate2D : public Structure {
     // A face wetted by a fluid: boundary edges as for add_pressure. Its nodes become wet nodes.
     void add_wet_face(const std::vector<std::array<int, 2>>& edges) {
         require(!edges.empty(), "a wet face needs at least one edge");
-        for (const auto& e : edges)
-            for (int i : e)
-                if (std::find(wet_.begin(), wet_.end(), i) == wet_.end()) wet_.push_back(i);
-        wet_edges_.insert(wet_edges_.end(), edges.begin(), edges.end());
+        wet_index_.resize(X_.size(), -1);
+        for (const auto& e : edges) {
+            for (int i : e) {
+                require(i >= 0 && static_cast<size_t>(i) < X_.size(),
+                        "a wet edge names a node that does not exist");
+                if (wet_index_[i] < 0) wet_index_[i] = static_cast<int>(wet_.size()), wet_.push_back(i);
+            }
+            wet_edges_.push_back({wet_index_[e[0]], wet_index_[e[1]]});
+        }
     }
 
     // Wet nodes on the current configuration. The area of a node is its share of its wet edges, with the
@@ -207,13 +212,13 @@ class Plate2D : public Structure {
         std::vector<WetNode> w(wet_.size());
         const bool axi = plane_ == Plane::Axisymmetric;
         for (const auto& edge : wet_edges_) {
-            const int i = edge[0], j = edge[1];
+            const int i = wet_[edge[0]], j = wet_[edge[1]];
             const double xi = X_[i] + ux_[i], xj = X_[j] + ux_[j];
             const double dx = xj - xi, dy = Y_[j] + uy_[j] - Y_[i] - uy_[i];
             const double si = axi ? (2 * xi + xj) / 6 : 0.5, sj = axi ? (xi + 2 * xj) / 6 : 0.5;
             const double length = std::hypot(dx, dy);
-            for (const auto& [node, share] : {std::pair{i, si}, std::pair{j, sj}}) {
-                WetNode& n = w[std::find(wet_.begin(), wet_.end(), node) - wet_.begin()];
+            for (const auto& [k, share] : {std::pair{edge[0], si}, std::pair{edge[1], sj}}) {
+                WetNode& n = w[k];
                 n.area += share * length;
                 n.normal_x += -dy * share, n.normal_y += dx * share; // inward: minus (Δy, −Δx)
             }
@@ -222,6 +227,9 @@ class Plate2D : public Structure {
             WetNode& n = w[k];
             const size_t i = wet_[k];
             const double len = std::hypot(n.normal_x, n.normal_y);
+            if (!(len > 0)) // e.g. a node between two edges of opposite directions: no normal
+                throw StructureFailure("wet node " + std::to_string(i) +
+                                       " has no normal (its wet edges cancel)");
             n.normal_x /= len, n.normal_y /= len;
             n.x = X_[i] + ux_[i], n.y = Y_[i] + uy_[i];
             n.velocity = vx_[i] * n.normal_x + vy_[i] * n.normal_y;
@@ -447,8 +455,9 @@ class Plate2D : public Structure {
     std::vector<int> incidence_start_, incidence_;
     std::vector<Load> loads_;
     int grid_nx_ = 0, grid_ny_ = 0;
-    std::vector<int> wet_; // wet nodes in the order they were first named
-    std::vector<std::array<int, 2>> wet_edges_;
+    std::vector<int> wet_;                      // wet nodes in the order they were first named
+    std::vector<int> wet_index_;                // per node: its place in wet_, or −1
+    std::vector<std::array<int, 2>> wet_edges_; // as places in wet_
     // Threads only for meshes large enough to repay the start of a parallel loop (several per step).
     bool parallel_ = false;
     Energies en_;

@@ -1,4 +1,4 @@
-// undex-rigid CASE [--set key=value]... --couple ENDPOINT: a rigid plate per unit area
+// The run of undex-rigid: a rigid plate per unit area
 // (structure.rigid_plate) driven by the fluid through the coupling protocol: the alternative structure solver
 // of the simplest kind.
 //     m du/dt = p_I − p_back − k x − c du/dt,   x the displacement along the normal into the plate,
@@ -7,7 +7,6 @@
 // Output <dir>/solid.h5: attributes case, status; /gauges/plate with t, u, v, p_I (columns attribute of
 // /gauges), so `undex gauges DIR/solid.h5` prints it; /coupling with t, dt, p_I, u_I of every step.
 #include "solid/rigid.hpp"
-#include "proto/case.pb.h"
 
 #include "base/case_file.hpp"
 #include "base/h5.hpp"

@@ -4,13 +4,11 @@
 #include "base/h5.hpp"
 #include "base/run_driver.hpp"
 #include "base/run_plan.hpp"
-#include "base/signals.hpp"
 #include "coupler/participant.hpp"
 #include "proto/case.pb.h"
 #include "solid/structure_setup.hpp"
 
-#include <chrono>
-#include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>

@@ -56,7 +56,11 @@ class Structure {
     // §5). Throws StructureFailure and then leaves the last good state in place.
     virtual std::vector<InterfaceSolution> step(double dt, std::span<const FluidCharacteristic> fluid) = 0;
 
-    // Output: the reference mesh (written once), the fields of the current state, gauges.
+    // Output: the reference mesh (written once), the fields of the current state, gauges. A 2D model's
+    // fields are drawn in ParaView through solid.xmf, which reads quadrilaterals from the mesh fields
+    // `quads` (elements × 4 node numbers, counter-clockwise) and `layer`, and the current node positions
+    // from the state field `position` (nodes × 2); its other single-column node and element fields become
+    // attributes. Another element shape needs its topology in that writer (solid/run_structure.cpp).
     virtual std::vector<Field> mesh_fields() const = 0;
     virtual std::vector<Field> state_fields() const = 0;
     virtual std::vector<std::string> gauge_columns() const = 0; // after t

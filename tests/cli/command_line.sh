@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The command line of undex and of the solver executables (issue 11, items 1 and 6):
+# The command line of undex and of the solver executables:
 #   - every command and every solver has --help: exit status 0 and a usage on stdout;
 #   - an unknown option or a misspelt one (--bogus, --sett, --out) is refused with exit status 64 and a
 #     message naming it, as is a missing CASE;

@@ -62,22 +62,24 @@ struct State {
 };
 
 // Pressure offset Pi of either model: isentropes (p + Pi) / rho^gamma = const, a^2 = gamma (p + Pi) / rho.
-inline double pressure_offset(const Material &m) { return m.kind == Material::Tait ? m.B - m.A : m.p_inf; }
+inline double pressure_offset(const Material& m) {
+    return m.kind == Material::Tait ? m.B - m.A : m.p_inf;
+}
 
-inline double sound_speed(const Material &m, double rho, double p) {
+inline double sound_speed(const Material& m, double rho, double p) {
     return std::sqrt(m.gamma * (p + pressure_offset(m)) / rho);
 }
 
 // Tait EOS and its inverse.
-inline double tait_pressure(const Material &m, double rho) {
+inline double tait_pressure(const Material& m, double rho) {
     return m.B * (std::pow(rho / m.rho0, m.gamma) - 1.0) + m.A;
 }
-inline double tait_density(const Material &m, double p) {
+inline double tait_density(const Material& m, double p) {
     return m.rho0 * std::pow((p - m.A) / m.B + 1.0, 1.0 / m.gamma);
 }
 
 // Total energy per unit volume of a stiffened gas, E = (p + gamma P_inf) / (gamma - 1) + rho u^2 / 2.
-inline double total_energy(const Material &m, const State &w) {
+inline double total_energy(const Material& m, const State& w) {
     if (m.kind != Material::StiffenedGas)
         throw std::invalid_argument(
             "exact::total_energy: the Tait model is barotropic and has no energy equation");
@@ -104,14 +106,14 @@ struct Side {
     double a;    // sound speed
 };
 
-inline std::string describe(const State &w) {
+inline std::string describe(const State& w) {
     std::ostringstream os;
     os.precision(17);
     os << "(rho=" << w.rho << ", u=" << w.u << ", p=" << w.p << ")";
     return os.str();
 }
 
-inline Side make_side(const Material &m, const State &w, const char *name) {
+inline Side make_side(const Material& m, const State& w, const char* name) {
     const std::string where = std::string("exact::Solution: ") + name + " ";
     if (!(std::isfinite(m.gamma) && m.gamma > 1.0))
         throw std::invalid_argument(where + "material needs a finite gamma > 1");
@@ -139,7 +141,7 @@ inline Side make_side(const Material &m, const State &w, const char *name) {
 }
 
 // rho(p) / rho_K - 1 along the isentrope through K, (pbar / pbar_K)^(1/gamma) - 1, without cancellation.
-inline double isentrope_density_ratio_m1(const Side &k, double p) {
+inline double isentrope_density_ratio_m1(const Side& k, double p) {
     return std::expm1(std::log1p((p - k.w.p) / k.pbar) / k.mat.gamma);
 }
 
@@ -148,7 +150,7 @@ struct FunctionValue {
     double f, df;
 };
 
-inline FunctionValue wave_function(const Side &k, double p) {
+inline FunctionValue wave_function(const Side& k, double p) {
     const double g = k.mat.gamma;
     const double dp = p - k.w.p;
     const double pbar = p + k.pi;
@@ -167,8 +169,7 @@ inline FunctionValue wave_function(const Side &k, double p) {
         const double rho = k.w.rho * (1.0 + r);
         const double dv = r / rho; // 1/rho_K - 1/rho
         const double f = std::sqrt(dp * dv);
-        if (!(f > 0.0))
-            return {0.0, 1.0 / (k.w.rho * k.a)}; // acoustic limit
+        if (!(f > 0.0)) return {0.0, 1.0 / (k.w.rho * k.a)}; // acoustic limit
         const double dg = dv + dp / (g * pbar * rho);
         return {f, 0.5 * dg / f};
     }
@@ -186,7 +187,7 @@ struct StarSide {
     Wave wave;
 };
 
-inline StarSide star_side(const Side &k, double sigma, double p_star, double u_star) {
+inline StarSide star_side(const Side& k, double sigma, double p_star, double u_star) {
     const double g = k.mat.gamma;
     const double ratio = (p_star + k.pi) / k.pbar;
     if (p_star > k.w.p) {
@@ -214,12 +215,10 @@ inline StarSide star_side(const Side &k, double sigma, double p_star, double u_s
 }
 
 // Solution at similarity coordinate s on side K (sigma = -1 left of the contact, +1 right of it).
-inline State sample_side(const Side &k, double sigma, const Wave &wave, double rho_star, double p_star,
+inline State sample_side(const Side& k, double sigma, const Wave& wave, double rho_star, double p_star,
                          double u_star, double s) {
-    if (sigma * (s - wave.head) > 0.0)
-        return k.w; // undisturbed
-    if (wave.kind == Wave::Shock || sigma * (s - wave.tail) <= 0.0)
-        return State{rho_star, u_star, p_star};
+    if (sigma * (s - wave.head) > 0.0) return k.w; // undisturbed
+    if (wave.kind == Wave::Shock || sigma * (s - wave.tail) <= 0.0) return State{rho_star, u_star, p_star};
     // Inside the fan (Toro sec. 4.4 fan formulas with p -> p + Pi): on the characteristic u + sigma a = s
     // the Riemann invariant u - sigma 2a/(gamma - 1) = J of the undisturbed state holds; then
     // rho ~ a^(2/(gamma-1)) and pbar ~ rho^gamma on the isentrope (same closed form for SG and Tait).
@@ -243,7 +242,7 @@ class Solution {
   public:
     static constexpr double tolerance = 1e-12; // relative tolerance on p* + Pi
 
-    Solution(const Material &left, const State &L, const Material &right, const State &R)
+    Solution(const Material& left, const State& L, const Material& right, const State& R)
         : L_(detail::make_side(left, L, "left")), R_(detail::make_side(right, R, "right")) {
         p_star_ = solve_pressure();
         // Toro (4.9).
@@ -263,16 +262,16 @@ class Solution {
     double rho_star_left() const { return rho_star_left_; }
     double rho_star_right() const { return rho_star_right_; }
     double contact_speed() const { return u_star_; }
-    const Wave &left_wave() const { return left_wave_; }
-    const Wave &right_wave() const { return right_wave_; }
-    const Material &left_material() const { return L_.mat; }
-    const Material &right_material() const { return R_.mat; }
-    const State &left_state() const { return L_.w; }
-    const State &right_state() const { return R_.w; }
+    const Wave& left_wave() const { return left_wave_; }
+    const Wave& right_wave() const { return right_wave_; }
+    const Material& left_material() const { return L_.mat; }
+    const Material& right_material() const { return R_.mat; }
+    const State& left_state() const { return L_.w; }
+    const State& right_state() const { return R_.w; }
     int iterations() const { return iterations_; }
 
     // Material found at s = (x - x0)/t; the contact itself (s == u*) is attributed to the left material.
-    const Material &material_at(double s) const { return s <= u_star_ ? L_.mat : R_.mat; }
+    const Material& material_at(double s) const { return s <= u_star_ ? L_.mat : R_.mat; }
 
     // Exact (rho, u, p) at s = (x - x0)/t. At s == u* the left star state is returned.
     State sample(double s) const {
@@ -312,27 +311,22 @@ class Solution {
                 throw std::runtime_error("exact::Solution: could not bracket p*");
             fh = f(hi);
         }
-        if (fh.f == 0.0)
-            return hi;
+        if (fh.f == 0.0) return hi;
         // Initial guess: linearised acoustic (impedance-weighted) estimate, if inside the bracket.
         const double zl = L_.w.rho * L_.a, zr = R_.w.rho * R_.a;
         double p = (zr * L_.w.p + zl * R_.w.p - zl * zr * du) / (zl + zr);
-        if (!(p > lo && p < hi))
-            p = 0.5 * (lo + hi);
+        if (!(p > lo && p < hi)) p = 0.5 * (lo + hi);
         for (iterations_ = 1; iterations_ <= 500; ++iterations_) {
             const detail::FunctionValue fv = f(p);
-            if (fv.f == 0.0)
-                return p;
+            if (fv.f == 0.0) return p;
             (fv.f < 0.0 ? lo : hi) = p;
             const double step = fv.f / fv.df;
             // Converged once the Newton correction is below the tolerance (the error is then ~ step^2).
             if (std::isfinite(step) && std::abs(step) <= tolerance * (p - p_floor))
                 return std::clamp(p - step, lo, hi);
             p -= step;
-            if (!(p > lo && p < hi))
-                p = 0.5 * (lo + hi); // Newton left the bracket (or failed): bisect
-            if (hi - lo <= tolerance * (lo - p_floor))
-                return 0.5 * (lo + hi);
+            if (!(p > lo && p < hi)) p = 0.5 * (lo + hi); // Newton left the bracket (or failed): bisect
+            if (hi - lo <= tolerance * (lo - p_floor)) return 0.5 * (lo + hi);
         }
         throw std::runtime_error("exact::Solution: pressure iteration did not converge");
     }

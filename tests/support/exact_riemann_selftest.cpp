@@ -17,25 +17,24 @@ namespace {
 int n_checks = 0;
 int n_failures = 0;
 
-void check(bool ok, const std::string &what, double value = NAN, double expected = NAN) {
+void check(bool ok, const std::string& what, double value = NAN, double expected = NAN) {
     ++n_checks;
-    if (ok)
-        return;
+    if (ok) return;
     ++n_failures;
     std::printf("  FAIL: %s (value %.12g, expected %.12g)\n", what.c_str(), value, expected);
 }
 
-void check_abs(double value, double expected, double tol, const std::string &what) {
+void check_abs(double value, double expected, double tol, const std::string& what) {
     check(std::abs(value - expected) <= tol, what + " [abs tol " + std::to_string(tol) + "]", value,
           expected);
 }
 
-void check_rel(double value, double expected, double tol, const std::string &what) {
+void check_rel(double value, double expected, double tol, const std::string& what) {
     check(std::abs(value - expected) <= tol * std::abs(expected), what, value, expected);
 }
 
 // Relative residual of a conservation law: |lhs - rhs| / (sum of magnitudes of all terms).
-void check_balance(double lhs, double rhs, double scale, double tol, const std::string &what) {
+void check_balance(double lhs, double rhs, double scale, double tol, const std::string& what) {
     const double res = std::abs(lhs - rhs) / scale;
     check(res <= tol, what + " relative residual", res, 0.0);
 }
@@ -47,12 +46,12 @@ using exact::Wave;
 
 // The constructor must throw E for these data.
 template <class E>
-void check_throws(const Material &ml, const State &L, const Material &mr, const State &R,
-                  const std::string &what) {
+void check_throws(const Material& ml, const State& L, const Material& mr, const State& R,
+                  const std::string& what) {
     bool thrown = false;
     try {
         const Solution sol(ml, L, mr, R);
-    } catch (const E &e) {
+    } catch (const E& e) {
         thrown = true;
         std::printf("  (expected exception: %s)\n", e.what());
     } catch (...) {
@@ -60,14 +59,18 @@ void check_throws(const Material &ml, const State &L, const Material &mr, const 
     check(thrown, what + " throws");
 }
 
-bool is_sg(const Material &m) { return m.kind == Material::StiffenedGas; }
+bool is_sg(const Material& m) {
+    return m.kind == Material::StiffenedGas;
+}
 
 // Offset such that p + offset is the effective pressure of the EOS, written out here independently.
-double offset(const Material &m) { return is_sg(m) ? m.p_inf : m.B - m.A; }
+double offset(const Material& m) {
+    return is_sg(m) ? m.p_inf : m.B - m.A;
+}
 
 // Rankine-Hugoniot conditions across a shock of speed S between sampled states a (ahead) and b (behind):
 // rho (u - S), rho u (u - S) + p and, for stiffened gases, (E + p) u - S E must be equal on both sides.
-void check_shock(const Material &m, const State &a, const State &b, double S, const std::string &label) {
+void check_shock(const Material& m, const State& a, const State& b, double S, const std::string& label) {
     const double tol = 1e-9;
     const double ma = a.rho * (a.u - S), mb = b.rho * (b.u - S);
     check_balance(ma, mb, std::abs(ma) + std::abs(mb), tol, label + ": mass");
@@ -75,7 +78,7 @@ void check_shock(const Material &m, const State &a, const State &b, double S, co
     check_balance(ia + a.p, ib + b.p, std::abs(ia) + std::abs(ib) + std::abs(a.p) + std::abs(b.p), tol,
                   label + ": momentum");
     if (is_sg(m)) {
-        auto E = [&](const State &w) {
+        auto E = [&](const State& w) {
             return (w.p + m.gamma * m.p_inf) / (m.gamma - 1.0) + 0.5 * w.rho * w.u * w.u;
         };
         const double ea = (E(a) + a.p) * a.u - S * E(a), eb = (E(b) + b.p) * b.u - S * E(b);
@@ -89,10 +92,10 @@ void check_shock(const Material &m, const State &a, const State &b, double S, co
 // Inside a fan sampled states must satisfy the characteristic condition u -/+ a = s, the Riemann invariant
 // u +/- 2a/(gamma-1) of the undisturbed state and its isentrope (p + Pi)/rho^gamma (for Tait: the EOS
 // itself), and join the undisturbed and star states continuously at head and tail.
-void check_fan(const Material &m, double sigma, const State &outer, const State &star, const Wave &w,
-               const Solution &sol, const std::string &label) {
+void check_fan(const Material& m, double sigma, const State& outer, const State& star, const Wave& w,
+               const Solution& sol, const std::string& label) {
     const double g = m.gamma, pi = offset(m);
-    auto a_of = [&](const State &s) { return std::sqrt(g * (s.p + pi) / s.rho); };
+    auto a_of = [&](const State& s) { return std::sqrt(g * (s.p + pi) / s.rho); };
     const double J = outer.u - sigma * 2.0 * a_of(outer) / (g - 1.0);
     const double K = (outer.p + pi) / std::pow(outer.rho, g);
     const double uscale = std::abs(outer.u) + std::abs(star.u) + a_of(outer);
@@ -103,8 +106,7 @@ void check_fan(const Material &m, double sigma, const State &outer, const State 
         check_abs(q.u + sigma * a_of(q), s, 1e-12 * uscale, at + ": characteristic u -/+ a = s");
         check_abs(q.u - sigma * 2.0 * a_of(q) / (g - 1.0), J, 1e-12 * uscale, at + ": Riemann invariant");
         check_rel((q.p + pi) / std::pow(q.rho, g), K, 1e-11, at + ": isentrope");
-        if (!is_sg(m))
-            check_rel(q.p + pi, m.B * std::pow(q.rho / m.rho0, g), 1e-11, at + ": on Tait EOS");
+        if (!is_sg(m)) check_rel(q.p + pi, m.B * std::pow(q.rho / m.rho0, g), 1e-11, at + ": on Tait EOS");
     }
     const double eps = 1e-9 * (std::abs(w.head) + std::abs(w.tail));
     const State h = sol.sample(w.head - sigma * eps), t = sol.sample(w.tail + sigma * eps);
@@ -116,9 +118,9 @@ void check_fan(const Material &m, double sigma, const State &outer, const State 
 }
 
 // Generic consistency checks of a solution.
-void check_consistency(const Solution &sol, const std::string &label) {
-    const Wave &wl = sol.left_wave();
-    const Wave &wr = sol.right_wave();
+void check_consistency(const Solution& sol, const std::string& label) {
+    const Wave& wl = sol.left_wave();
+    const Wave& wr = sol.right_wave();
     const double us = sol.u_star(), ps = sol.p_star();
     const State L = sol.left_state(), R = sol.right_state();
     const double span = std::abs(wl.head) + std::abs(wr.head) + 1.0;
@@ -137,8 +139,8 @@ void check_consistency(const Solution &sol, const std::string &label) {
     check(sl.rho == sol.rho_star_left() && sr.rho == sol.rho_star_right(), label + ": star densities");
 
     // Star densities lie on the correct curve of each material (independent formulas for Tait).
-    const Material &ml = sol.left_material();
-    const Material &mr = sol.right_material();
+    const Material& ml = sol.left_material();
+    const Material& mr = sol.right_material();
     if (!is_sg(ml))
         check_rel(sol.rho_star_left(), ml.rho0 * std::pow((ps - ml.A) / ml.B + 1.0, 1.0 / ml.gamma), 1e-12,
                   label + ": rho*L on Tait EOS");
@@ -170,8 +172,8 @@ void check_consistency(const Solution &sol, const std::string &label) {
     check_abs(mir.right_wave().head, -wl.head, 1e-10 * span, label + ": mirror wave speed");
 }
 
-void print_waves(const Solution &sol, const char *label) {
-    auto wave = [](const char *side, const Wave &w) {
+void print_waves(const Solution& sol, const char* label) {
+    auto wave = [](const char* side, const Wave& w) {
         if (w.is_shock())
             std::printf("    %s wave: shock, S = %.10g\n", side, w.head);
         else
@@ -186,7 +188,7 @@ void print_waves(const Solution &sol, const char *label) {
 
 // Toro, Table 4.3 (gamma = 1.4): values printed with 5-6 significant digits; tolerance = half a unit in the
 // last printed digit.
-void toro_test(const char *name, State L, State R, double p, double dp, double u, double du, double rl,
+void toro_test(const char* name, State L, State R, double p, double dp, double u, double du, double rl,
                double drl, double rr, double drr) {
     std::printf("%s\n", name);
     const Material g = exact::stiffened_gas(1.4);
@@ -305,7 +307,7 @@ int main() {
         print_waves(t, "gas | Tait water");
         print_waves(s, "gas | SG water (7.15, 3.31e8 - 1e5)");
         std::printf("  relative difference of p*: %.3e\n", (s.p_star() - t.p_star()) / t.p_star());
-        for (const Solution *sol : {&t, &s}) {
+        for (const Solution* sol : {&t, &s}) {
             const std::string lab = sol == &t ? "gas|Tait" : "gas|SG water";
             check(sol->p_star() > W.p && sol->p_star() < G.p, lab + ": pR < p* < pL", sol->p_star());
             check(sol->u_star() > 0.0, lab + ": u* > 0", sol->u_star());

@@ -20,14 +20,14 @@ inline std::unique_ptr<fluid::FluidSolver> make(const std::string& text) {
 // Advances to end_time with the solver's own stable Δt; returns the wall time in seconds.
 inline double advance(fluid::FluidSolver& s, double end_time) {
     const auto start = std::chrono::steady_clock::now();
-    while (s.time() < end_time * (1 - 1e-14)) s.step(std::min(s.stable_dt(), end_time - s.time()));
+    while (s.time() < end_time * (1 - 1e-14))
+        s.step(std::min(s.stable_dt(), end_time - s.time()));
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // L2 norm over the domain of (numerical − exact) for one primitive variable, by 3-point Gauss quadrature
 // per direction in every cell; `exact` returns the exact primitive at (x, y).
-template <class Exact, class Pick>
-double l2_error(const fluid::FluidSolver& s, Exact&& exact, Pick&& pick) {
+template <class Exact, class Pick> double l2_error(const fluid::FluidSolver& s, Exact&& exact, Pick&& pick) {
     const auto& m = s.mesh();
     const double g[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)}, w[3] = {5 / 18.0, 8 / 18.0, 5 / 18.0};
     double sum = 0, area = 0;

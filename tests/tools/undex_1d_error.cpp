@@ -7,8 +7,10 @@
 //   degree,cells,water,stopped,<message>       and exits with status 2.
 // Usage: undex_1d_error CASE [--set key=value ...] [--bins N] [--exact CSV] [--fit-time]
 //   --fit-time   ends the run (and its outputs) when the fastest exact wave has covered 80 % of the way to
-//                the boundary ahead of it, if that comes before the case's end time (for sweeps of the states);
-//   --bins N     also prints, to standard error, the share of L1(p)/p* from each of N equal bins of the domain;
+//                the boundary ahead of it, if that comes before the case's end time (for sweeps of the
+//                states);
+//   --bins N     also prints, to standard error, the share of L1(p)/p* from each of N equal bins of the
+//   domain;
 //   --exact CSV  writes the exact solution at the end time (x,rho,u,p, 4000 points) and stops.
 #include "proto/case.pb.h"
 #include "tests/support/undex_1d.hpp"
@@ -20,7 +22,8 @@
 namespace {
 
 exact::Material material_of(const undex::config::Material& m) {
-    if (m.has_stiffened_gas()) return exact::stiffened_gas(m.stiffened_gas().gamma(), m.stiffened_gas().p_inf());
+    if (m.has_stiffened_gas())
+        return exact::stiffened_gas(m.stiffened_gas().gamma(), m.stiffened_gas().p_inf());
     const auto& t = m.tait();
     if (t.as_stiffened_gas()) return exact::stiffened_gas(t.gamma(), t.b() - t.a());
     return exact::tait(t.gamma(), t.b(), t.a(), t.rho0());
@@ -74,7 +77,8 @@ int main(int argc, char** argv) {
             throw std::invalid_argument("unknown material '" + name + "'");
         };
         const auto ml = material(left.material()), mr = material(right.material());
-        const bool sg = (mr.has_tait() && mr.tait().as_stiffened_gas()) || (ml.has_tait() && ml.tait().as_stiffened_gas());
+        const bool sg = (mr.has_tait() && mr.tait().as_stiffened_gas()) ||
+                        (ml.has_tait() && ml.tait().as_stiffened_gas());
         label = std::to_string(c0.numerics().degree()) + "," + std::to_string(c0.domain().cells_x()) + "," +
                 (sg ? "stiffened_gas" : "tait");
         const exact::Solution ex(material_of(ml), {left.rho(), left.u(), left.p()}, material_of(mr),
@@ -120,8 +124,8 @@ int main(int argc, char** argv) {
             std::printf("%s,stopped,\"non-finite values in the final state\"\n", label.c_str());
             return 3;
         }
-        std::printf("%s,%.4f,%.4e,%.4e,%.4e,%.4e,%.6e,%.3f,%.3f,%.3f\n", label.c_str(), wall, e.l1_rho, e.l1_u,
-                    e.l1_p, e.l1_p / e.p_star, e.p_star, (e.shock - e.shock_exact) / e.dx,
+        std::printf("%s,%.4f,%.4e,%.4e,%.4e,%.4e,%.6e,%.3f,%.3f,%.3f\n", label.c_str(), wall, e.l1_rho,
+                    e.l1_u, e.l1_p, e.l1_p / e.p_star, e.p_star, (e.shock - e.shock_exact) / e.dx,
                     (e.interface - e.interface_exact) / e.dx, (e.head - e.head_exact) / e.dx);
         if (bins > 0) {
             const auto& m = s->mesh();
@@ -129,11 +133,14 @@ int main(int argc, char** argv) {
             const int n = m.nx * 8;
             for (int k = 0; k < n; ++k) {
                 const double x = m.x_min + (k + 0.5) * (m.x_max - m.x_min) / n;
-                const double err = std::abs(s->evaluate(x, 0).p - ex.sample((x - x0) / t).p) / (n * ex.p_star());
-                share[std::min(bins - 1, static_cast<int>((x - m.x_min) / (m.x_max - m.x_min) * bins))] += err;
+                const double err =
+                    std::abs(s->evaluate(x, 0).p - ex.sample((x - x0) / t).p) / (n * ex.p_star());
+                share[std::min(bins - 1, static_cast<int>((x - m.x_min) / (m.x_max - m.x_min) * bins))] +=
+                    err;
             }
             for (int b = 0; b < bins; ++b)
-                std::fprintf(stderr, "x in [%.3f, %.3f): L1(p)/p* %.3e\n", m.x_min + (m.x_max - m.x_min) * b / bins,
+                std::fprintf(stderr, "x in [%.3f, %.3f): L1(p)/p* %.3e\n",
+                             m.x_min + (m.x_max - m.x_min) * b / bins,
                              m.x_min + (m.x_max - m.x_min) * (b + 1) / bins, share[b]);
         }
         return 0;

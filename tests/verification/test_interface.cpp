@@ -1,8 +1,8 @@
 // Gas–water interfaces (physics.md §4): the solver's interface Riemann solver against the independent exact
 // solver of the tests, and case 4.1 (cases/undex_1d.case) against the exact two-material solution of its
 // water model. L1 errors are mean absolute errors over [0, 1] (tests/support/undex_1d.hpp).
-#include "tests/support/exact_riemann.hpp"
 #include "fluid/interface_riemann.hpp"
+#include "tests/support/exact_riemann.hpp"
 #include "tests/support/undex_1d.hpp"
 
 #include <gtest/gtest.h>

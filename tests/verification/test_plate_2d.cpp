@@ -370,7 +370,8 @@ TEST(Plate2D, WetNodesOfAFaceCoverItWithInwardNormals) {
     for (const Plane plane : {Plane::Strain, Plane::Axisymmetric}) {
         const LayeredPlate lp = layered_plate(x0, L, nx, {h}, {2});
         Plate2D plate(lp.mesh, {steel()}, plane);
-        std::vector<std::array<int, 2>> front, back; // counter-clockwise: left to right in front, back reversed
+        // Edges counter-clockwise: left to right in front, right to left at the back.
+        std::vector<std::array<int, 2>> front, back;
         for (int i = 0; i < nx; ++i) {
             front.push_back({lp.node(i, 0), lp.node(i + 1, 0)});
             back.push_back({lp.node(i + 1, lp.ny), lp.node(i, lp.ny)});
