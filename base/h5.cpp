@@ -111,13 +111,36 @@ void write_table(hid_t file, const std::string& group, const std::vector<std::st
     H5Gclose(g);
 }
 
-hid_t create(const std::string& path) {
+OutputFile::OutputFile(const std::string& directory, const std::string& name, const std::string& case_text)
+    : directory_(directory), path_((std::filesystem::path(directory) / name).string()) {
+    std::filesystem::create_directories(directory);
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
     H5Pset_file_locking(fapl, false, true);
-    const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+    file_ = H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
     H5Pclose(fapl);
-    return f;
+    if (file_ < 0) throw std::runtime_error(path_ + ": cannot create the output file");
+    write_attr_string(file_, "case", case_text);
+    write_attr_string(file_, "status", "running");
+}
+
+OutputFile::~OutputFile() {
+    if (file_ >= 0) H5Fclose(file_);
+}
+
+void OutputFile::flush() const {
+    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+}
+
+void OutputFile::set_status(const std::string& status) const {
+    write_attr_string(file_, "status", status);
+    flush();
+}
+
+void OutputFile::write_table(const std::string& group, const std::vector<std::string>& columns,
+                             const std::vector<double>& rows) const {
+    h5::write_table(file_, group, columns, rows);
+    flush();
 }
 
 hid_t open_read(const std::string& path) {

@@ -27,9 +27,29 @@ hid_t open_read(const std::string& path);
 // A table of interleaved rows as one dataset per column in group (created when missing).
 void write_table(hid_t file, const std::string& group, const std::vector<std::string>& columns,
                  const std::vector<double>& rows);
-// Creates (truncates) an output file without HDF5's file lock, so that Python and ParaView can read what was
-// flushed while the run goes on; a negative id on failure.
-hid_t create(const std::string& path);
+// The output file of a solver's run, DIRECTORY/NAME: created (replacing an older one, the directory made
+// when missing) without HDF5's file lock, so that Python and ParaView can read what was flushed while the
+// run goes on; it holds the case text and the status ("running" until set_status). Tables and the status
+// are flushed as they are written. Closed on destruction.
+class OutputFile {
+  public:
+    OutputFile(const std::string& directory, const std::string& name, const std::string& case_text);
+    ~OutputFile();
+    OutputFile(const OutputFile&) = delete;
+    OutputFile& operator=(const OutputFile&) = delete;
+    hid_t id() const { return file_; }
+    const std::string& path() const { return path_; }
+    const std::string& directory() const { return directory_; }
+    void flush() const;
+    void set_status(const std::string& status) const;
+    // A table of interleaved rows as one dataset per column in group (write_table).
+    void write_table(const std::string& group, const std::vector<std::string>& columns,
+                     const std::vector<double>& rows) const;
+
+  private:
+    std::string directory_, path_;
+    hid_t file_ = -1;
+};
 
 // The output file of a run: DIR/fluid.h5, or DIR/solid.h5 for a structure-only run (no fluid.h5); a path
 // that is not a directory as it is.

@@ -16,53 +16,42 @@ using namespace undex::h5;
 
 Output::Output(const std::string& directory, const std::string& case_text, const FluidSolver& solver,
                const std::vector<GaugePoint>& gauges)
-    : directory_(directory), gauges_(gauges), series_(gauges.size()) {
-    std::filesystem::create_directories(directory);
-    h5_path_ = (std::filesystem::path(directory) / "fluid.h5").string();
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-    file_ = h5::create(h5_path_);
-    if (file_ < 0) throw std::runtime_error(h5_path_ + ": cannot create the output file");
+    : file_(directory, "fluid.h5", case_text), gauges_(gauges), series_(gauges.size()) {
     const Mesh& m = solver.mesh();
     dim_ = m.dim, nx_ = m.nx, ny_ = m.ny;
     x_min_ = m.x_min, y_min_ = m.y_min, dx_ = m.dx, dy_ = m.dy;
     cavitation_ = solver.has_cavitation();
     level_set_ = !solver.level_set().empty();
-    write_attr_string(file_, "case", case_text);
-    write_attr<long>(file_, "dim", m.dim);
-    write_attr<long>(file_, "nx", m.nx);
-    write_attr<long>(file_, "ny", m.ny);
-    write_attr<long>(file_, "degree", solver.degree());
-    write_attr<long>(file_, "variables", solver.variables());
-    write_attr<long>(file_, "basis_functions", solver.basis_functions());
-    write_attr<double>(file_, "x_min", m.x_min);
-    write_attr<double>(file_, "x_max", m.x_max);
-    write_attr<double>(file_, "y_min", m.y_min);
-    write_attr<double>(file_, "y_max", m.y_max);
-    write_attr_string(file_, "status", "running");
+    write_attr<long>(file_.id(), "dim", m.dim);
+    write_attr<long>(file_.id(), "nx", m.nx);
+    write_attr<long>(file_.id(), "ny", m.ny);
+    write_attr<long>(file_.id(), "degree", solver.degree());
+    write_attr<long>(file_.id(), "variables", solver.variables());
+    write_attr<long>(file_.id(), "basis_functions", solver.basis_functions());
+    write_attr<double>(file_.id(), "x_min", m.x_min);
+    write_attr<double>(file_.id(), "x_max", m.x_max);
+    write_attr<double>(file_.id(), "y_min", m.y_min);
+    write_attr<double>(file_.id(), "y_max", m.y_max);
     for (const char* g : {"fields", "gauges"})
-        H5Gclose(H5Gcreate2(file_, g, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+        H5Gclose(H5Gcreate2(file_.id(), g, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
     std::vector<double> x(m.nx);
     for (int i = 0; i < m.nx; ++i)
         x[i] = m.xc(i);
-    write_dataset(file_, "x", {static_cast<hsize_t>(m.nx)}, x.data());
+    write_dataset(file_.id(), "x", {static_cast<hsize_t>(m.nx)}, x.data());
     if (m.dim == 2) {
         std::vector<double> y(m.ny);
         for (int j = 0; j < m.ny; ++j)
             y[j] = m.yc(j);
-        write_dataset(file_, "y", {static_cast<hsize_t>(m.ny)}, y.data());
+        write_dataset(file_.id(), "y", {static_cast<hsize_t>(m.ny)}, y.data());
     }
-    H5Fflush(file_, H5F_SCOPE_GLOBAL);
-}
-
-Output::~Output() {
-    if (file_ >= 0) H5Fclose(file_);
+    file_.flush();
 }
 
 void Output::write_fields(const FluidSolver& solver, bool last_good) {
     char name[32];
     std::snprintf(name, sizeof name, "fields/%06zu", snapshots_.size());
-    hid_t g = H5Gcreate2(file_, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (g < 0) throw std::runtime_error(h5_path_ + ": cannot create group " + name);
+    hid_t g = H5Gcreate2(file_.id(), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (g < 0) throw std::runtime_error(file_.path() + ": cannot create group " + name);
     write_attr<double>(g, "time", solver.time());
     write_attr<long>(g, "step", solver.steps());
     write_attr<long>(g, "last_good", last_good ? 1 : 0);
@@ -90,7 +79,7 @@ void Output::write_fields(const FluidSolver& solver, bool last_good) {
     snapshots_.push_back({name, solver.time()});
     write_gauges();
     write_xdmf();
-    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+    file_.flush();
 }
 
 void Output::record_gauges(const FluidSolver& solver) {
@@ -104,9 +93,9 @@ void Output::record_gauges(const FluidSolver& solver) {
 void Output::write_gauges() {
     for (size_t k = 0; k < gauges_.size(); ++k) {
         const std::string group = "gauges/" + gauges_[k].name;
-        if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) <= 0)
-            H5Gclose(H5Gcreate2(file_, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-        hid_t g = H5Gopen2(file_, group.c_str(), H5P_DEFAULT);
+        if (H5Lexists(file_.id(), group.c_str(), H5P_DEFAULT) <= 0)
+            H5Gclose(H5Gcreate2(file_.id(), group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+        hid_t g = H5Gopen2(file_.id(), group.c_str(), H5P_DEFAULT);
         write_attr<double>(g, "x", gauges_[k].x);
         write_attr<double>(g, "y", gauges_[k].y);
         const auto& s = series_[k];
@@ -120,18 +109,16 @@ void Output::write_gauges() {
         }
         H5Gclose(g);
     }
-    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+    file_.flush();
 }
 
 void Output::write_table(const std::string& group, const std::vector<std::string>& columns,
                          const std::vector<double>& data) {
-    h5::write_table(file_, group, columns, data);
-    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+    file_.write_table(group, columns, data);
 }
 
 void Output::set_status(const std::string& status) {
-    write_attr_string(file_, "status", status);
-    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+    file_.set_status(status);
 }
 
 void Output::write_xdmf() const {
@@ -161,8 +148,8 @@ void Output::write_xdmf() const {
         x << "</Grid>\n";
     }
     x << "</Grid>\n</Domain>\n</Xdmf>\n";
-    const auto path = std::filesystem::path(directory_) / "fluid.xmf";
-    const auto tmp = std::filesystem::path(directory_) / "fluid.xmf.tmp";
+    const auto path = std::filesystem::path(file_.directory()) / "fluid.xmf";
+    const auto tmp = std::filesystem::path(file_.directory()) / "fluid.xmf.tmp";
     std::ofstream(tmp) << x.str();
     std::filesystem::rename(tmp, path);
 }

@@ -8,6 +8,7 @@
 //   /gauges/NAME     t, rho, u, v, p: time series at the gauge point
 // The file is flushed after every write, so a run that stops leaves every completed output readable.
 #pragma once
+#include "base/h5.hpp"
 #include "base/run_plan.hpp"
 #include "fluid/solver.hpp"
 
@@ -22,7 +23,6 @@ class Output {
     // Creates <directory>/fluid.h5 (replacing an older one) and fluid.xmf.
     Output(const std::string& directory, const std::string& case_text, const FluidSolver& solver,
            const std::vector<GaugePoint>& gauges);
-    ~Output();
     Output(const Output&) = delete;
     Output& operator=(const Output&) = delete;
 
@@ -33,12 +33,11 @@ class Output {
     // A table as one dataset per column in group (created on first use), rows interleaved in data.
     void write_table(const std::string& group, const std::vector<std::string>& columns,
                      const std::vector<double>& data);
-    const std::string& path() const { return h5_path_; }
+    const std::string& path() const { return file_.path(); }
 
   private:
     void write_xdmf() const;
-    std::string directory_, h5_path_;
-    long file_ = -1;
+    h5::OutputFile file_;
     std::vector<GaugePoint> gauges_;
     std::vector<std::vector<double>> series_; // per gauge: t, rho, u, v, p interleaved
     struct Snapshot {

@@ -16,7 +16,6 @@
 #include "solid/interface_node.hpp"
 #include "solid/structure_setup.hpp"
 
-#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -27,35 +26,22 @@ namespace {
 
 class RigidOutput {
   public:
-    RigidOutput(const std::string& dir, const std::string& case_text) {
-        std::filesystem::create_directories(dir);
-        path_ = (std::filesystem::path(dir) / "solid.h5").string();
-        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-        file_ = h5::create(path_);
-        if (file_ < 0) throw std::runtime_error(path_ + ": cannot create the output file");
-        h5::write_attr_string(file_, "case", case_text);
-        h5::write_attr_string(file_, "status", "running");
-        hid_t g = H5Gcreate2(file_, "gauges", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    RigidOutput(const std::string& dir, const std::string& case_text) : file_(dir, "solid.h5", case_text) {
+        hid_t g = H5Gcreate2(file_.id(), "gauges", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
         h5::write_attr_string(g, "columns", "t,u,v,p_I");
         H5Gclose(g);
-        H5Fflush(file_, H5F_SCOPE_GLOBAL);
+        file_.flush();
     }
-    ~RigidOutput() { H5Fclose(file_); }
     std::vector<double> plate, coupling; // rows t, u, v, p_I and t, dt, p_I, u_I
     void write() {
-        h5::write_table(file_, "gauges/plate", {"t", "u", "v", "p_I"}, plate);
-        h5::write_table(file_, "coupling", {"t", "dt", "p_I", "u_I"}, coupling);
-        H5Fflush(file_, H5F_SCOPE_GLOBAL);
+        h5::write_table(file_.id(), "gauges/plate", {"t", "u", "v", "p_I"}, plate);
+        file_.write_table("coupling", {"t", "dt", "p_I", "u_I"}, coupling);
     }
-    void set_status(const std::string& s) {
-        h5::write_attr_string(file_, "status", s);
-        H5Fflush(file_, H5F_SCOPE_GLOBAL);
-    }
-    const std::string& path() const { return path_; }
+    void set_status(const std::string& s) { file_.set_status(s); }
+    const std::string& path() const { return file_.path(); }
 
   private:
-    std::string path_;
-    hid_t file_ = -1;
+    h5::OutputFile file_;
 };
 
 // The plate for the driver (base/run_driver.hpp): it follows the fluid's clock.

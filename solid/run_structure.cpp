@@ -34,32 +34,20 @@ class StructureOutput {
   public:
     StructureOutput(const std::string& dir, const std::string& case_text, const Structure& s,
                     const std::vector<std::string>& layers)
-        : s_(s), dir_(dir) {
-        std::filesystem::create_directories(dir);
-        path_ = (std::filesystem::path(dir) / "solid.h5").string();
-        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-        file_ = h5::create(path_);
-        if (file_ < 0) throw std::runtime_error(path_ + ": cannot create the output file");
-        h5::write_attr_string(file_, "case", case_text);
-        h5::write_attr<long>(file_, "dimension", s.dimension());
-        h5::write_attr<long>(file_, "nodes", static_cast<long>(s.nodes()));
-        h5::write_attr<long>(file_, "elements", static_cast<long>(s.element_count()));
-        h5::write_attr_string(file_, "layers", join(layers));
-        h5::write_attr_string(file_, "status", "running");
+        : s_(s), file_(dir, "solid.h5", case_text) {
+        h5::write_attr<long>(file_.id(), "dimension", s.dimension());
+        h5::write_attr<long>(file_.id(), "nodes", static_cast<long>(s.nodes()));
+        h5::write_attr<long>(file_.id(), "elements", static_cast<long>(s.element_count()));
+        h5::write_attr_string(file_.id(), "layers", join(layers));
         for (const Field& f : s.mesh_fields())
-            write_field(file_, f);
-        H5Gclose(H5Gcreate2(file_, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-        H5Gclose(H5Gcreate2(file_, "energies", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-        hid_t g = H5Gcreate2(file_, "gauges", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+            write_field(file_.id(), f);
+        H5Gclose(H5Gcreate2(file_.id(), "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+        H5Gclose(H5Gcreate2(file_.id(), "energies", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+        hid_t g = H5Gcreate2(file_.id(), "gauges", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
         h5::write_attr_string(g, "columns", join(gauge_columns()));
         H5Gclose(g);
-        H5Fflush(file_, H5F_SCOPE_GLOBAL);
+        file_.flush();
     }
-    ~StructureOutput() {
-        if (file_ >= 0) H5Fclose(file_);
-    }
-    StructureOutput(const StructureOutput&) = delete;
-    StructureOutput& operator=(const StructureOutput&) = delete;
 
     // A gauge at (x, y) of the reference configuration (1D: x is the depth).
     void add_gauge(const std::string& name, double x, double y) {
@@ -77,8 +65,8 @@ class StructureOutput {
     void write_fields(bool last_good = false) {
         char name[32];
         std::snprintf(name, sizeof name, "fields/%06d", count_++);
-        hid_t g = H5Gcreate2(file_, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-        if (g < 0) throw std::runtime_error(path_ + ": cannot create group " + name);
+        hid_t g = H5Gcreate2(file_.id(), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        if (g < 0) throw std::runtime_error(file_.path() + ": cannot create group " + name);
         h5::write_attr<double>(g, "time", s_.time());
         h5::write_attr<long>(g, "step", s_.steps());
         h5::write_attr<long>(g, "last_good", last_good ? 1 : 0);
@@ -91,24 +79,14 @@ class StructureOutput {
         if (s_.dimension() == 2) write_xdmf(fields);
     }
     void write_tables() {
-        h5::write_table(file_, "energies",
+        h5::write_table(file_.id(), "energies",
                         {"t", "kinetic", "elastic", "plastic", "hourglass", "external", "balance_error"},
                         energies_);
         for (const auto& gauge : gauges_)
-            h5::write_table(file_, "gauges/" + gauge.name, gauge_columns(), gauge.series);
-        H5Fflush(file_, H5F_SCOPE_GLOBAL);
+            h5::write_table(file_.id(), "gauges/" + gauge.name, gauge_columns(), gauge.series);
+        file_.flush();
     }
-    // A table of one dataset per column in group.
-    void write_group_table(const std::string& group, const std::vector<std::string>& columns,
-                           const std::vector<double>& data) {
-        h5::write_table(file_, group, columns, data);
-        H5Fflush(file_, H5F_SCOPE_GLOBAL);
-    }
-    void set_status(const std::string& s) {
-        h5::write_attr_string(file_, "status", s);
-        H5Fflush(file_, H5F_SCOPE_GLOBAL);
-    }
-    const std::string& path() const { return path_; }
+    const h5::OutputFile& file() const { return file_; }
 
   private:
     struct Gauge {
@@ -121,8 +99,7 @@ class StructureOutput {
         double time;
     };
     const Structure& s_;
-    std::string dir_, path_;
-    hid_t file_ = -1;
+    h5::OutputFile file_;
     int count_ = 0;
     std::vector<Gauge> gauges_;
     std::vector<double> energies_;
@@ -177,8 +154,8 @@ class StructureOutput {
             x << "</Attribute>\n</Grid>\n";
         }
         x << "</Grid>\n</Domain>\n</Xdmf>\n";
-        const auto path = std::filesystem::path(dir_) / "solid.xmf";
-        const auto tmp = std::filesystem::path(dir_) / "solid.xmf.tmp";
+        const auto path = std::filesystem::path(file_.directory()) / "solid.xmf";
+        const auto tmp = std::filesystem::path(file_.directory()) / "solid.xmf.tmp";
         std::ofstream(tmp) << x.str();
         std::filesystem::rename(tmp, path);
     }
@@ -257,15 +234,15 @@ class StructureRun : public Run {
     void complete() override {
         out_.write_tables();
         write_history();
-        out_.set_status("complete");
+        out_.file().set_status("complete");
     }
     void fail(const std::string& why) override {
         if (link_) link_->fail(why); // best effort: the peer learns the cause
         out_.write_fields(true);
         write_history();
-        out_.set_status("failed: " + why);
+        out_.file().set_status("failed: " + why);
     }
-    std::string output_path() const override { return out_.path(); }
+    std::string output_path() const override { return out_.file().path(); }
     std::string progress() const override {
         const Energies& e = s_.energies();
         return "  energy balance error " + format("%.2e", e.balance_error() / std::max(e.external, 1e-300));
@@ -283,7 +260,7 @@ class StructureRun : public Run {
     std::vector<FluidCharacteristic> fluid_; // at each wet node, for the step granted
     std::vector<double> history_;            // t, dt, p_I, u_I per coupled step and wet node
     void write_history() {
-        if (link_) out_.write_group_table("coupling", {"t", "dt", "p_I", "u_I"}, history_);
+        if (link_) out_.file().write_table("coupling", {"t", "dt", "p_I", "u_I"}, history_);
     }
 };
 
