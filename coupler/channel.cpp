@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <thread>
@@ -169,7 +170,20 @@ void Channel::send_raw(const std::string& bytes) {
         throw CouplingError("cannot send to " + peer_ + ": nobody took the message within the timeout");
 }
 
+// Any ZeroMQ call of the wait may be interrupted by a signal (SIGINT, SIGTERM: the run then ends with its
+// last good state written) or fail otherwise; either is a coupling failure naming the step.
 Envelope Channel::receive(std::int64_t step, Envelope::BodyCase expected) {
+    try {
+        return wait(step, expected);
+    } catch (const zmq::error_t& err) {
+        throw CouplingError(
+            (err.num() == EINTR ? "stopped by a signal (SIGINT or SIGTERM)" : "the socket failed") +
+            std::string(" at step ") + std::to_string(step) + " while waiting for " + body_name(expected) +
+            " from " + peer_ + ": " + err.what());
+    }
+}
+
+Envelope Channel::wait(std::int64_t step, Envelope::BodyCase expected) {
     const std::string at = " at step " + std::to_string(step);
     auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms_);
     for (;;) {
@@ -183,15 +197,7 @@ Envelope Channel::receive(std::int64_t step, Envelope::BodyCase expected) {
         // 145–190 µs without it, and the coupling's share of case 4.3 12.5 % against 18.5 %. A spin without
         // yielding was slower (it starves ZeroMQ's I/O threads on two cores); 1000 µs gained nothing more.
         const auto spin_until = std::chrono::steady_clock::now() + std::chrono::microseconds(300);
-        // A signal (SIGINT, SIGTERM) interrupts the wait: the run ends with its last good state written.
-        auto poll = [&](std::chrono::milliseconds t) {
-            try {
-                return zmq::poll(items, 2, t);
-            } catch (const zmq::error_t& err) {
-                throw CouplingError("stopped by a signal (SIGINT or SIGTERM)" + at + " while waiting for " +
-                                    body_name(expected) + " from " + peer_ + ": " + err.what());
-            }
-        };
+        auto poll = [&](std::chrono::milliseconds t) { return zmq::poll(items, 2, t); };
         while (poll(std::chrono::milliseconds(0)) == 0 && std::chrono::steady_clock::now() < spin_until)
             std::this_thread::yield();
         if (!(items[0].revents | items[1].revents)) poll(std::max(left, std::chrono::milliseconds(0)));

@@ -53,6 +53,7 @@ class Channel {
     bool peer_lost_ = false;  // one of them closed
     void on_event(int event, int fd);
     bool peer_gone(); // reads the pending connection events first
+    Envelope wait(std::int64_t step, Envelope::BodyCase expected); // receive, with ZeroMQ's errors unwrapped
     std::string endpoint_, peer_, ipc_path_;
     int timeout_ms_;
 };
