@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -590,11 +591,8 @@ struct Range {
 // The shortest decimal that reads back as x.
 std::string number_text(double x) {
     char b[32];
-    for (int digits = 1; digits <= 17; ++digits) {
-        std::snprintf(b, sizeof b, "%.*g", digits, x);
-        if (std::strtod(b, nullptr) == x || x != x) break;
-    }
-    return b;
+    const auto r = std::to_chars(b, b + sizeof b, x);
+    return std::string(b, r.ptr);
 }
 
 std::string Range::text() const {

@@ -13,6 +13,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <set>
 #include <unistd.h>
 #include <variant>
 
@@ -83,6 +85,15 @@ std::string choices(const std::vector<NamedOption>& names) {
 }
 bool known(const std::vector<NamedOption>& names, const std::string& v) {
     return std::any_of(names.begin(), names.end(), [&](const NamedOption& n) { return v == n.name; });
+}
+
+// The index of each material name (its first definition): one pass, so that checks stay linear in the size
+// of the case.
+std::map<std::string, int> material_indices(const cfg::Case& c) {
+    std::map<std::string, int> index;
+    for (int m = 0; m < c.materials_size(); ++m)
+        index.emplace(c.materials(m).name(), m);
+    return index;
 }
 
 int material_index(const cfg::Case& c, const std::string& name) {
@@ -230,11 +241,11 @@ void validate_domain(const CaseFile& cf) {
 void validate_materials(const CaseFile& cf) {
     const cfg::Case& c = cf.get();
     if (c.materials_size() == 0) cf.fail("materials", "no material is defined");
+    const auto index = material_indices(c);
     for (int m = 0; m < c.materials_size(); ++m) {
         const auto& mat = c.materials(m);
         const std::string p = "materials[" + std::to_string(m) + "]";
-        if (material_index(c, mat.name()) != m)
-            cf.fail(p + ".name", "material '" + mat.name() + "' is defined twice");
+        if (index.at(mat.name()) != m) cf.fail(p + ".name", "material '" + mat.name() + "' is defined twice");
         if (const EosRow* row = eos_row(mat)) {
             row->check(cf, mat, p);
         } else {
@@ -252,18 +263,21 @@ void validate_regions(const CaseFile& cf) {
     if (c.regions_size() == 0) cf.fail("regions", "no initial region is defined");
     if (c.regions(0).shape_case() != cfg::Region::SHAPE_NOT_SET)
         cf.fail("regions[0]", "the first region must cover the whole domain (no box or ball)");
+    const auto index = material_indices(c);
+    const std::string& first = c.regions(0).material();
+    const std::string* second = nullptr; // the other material, from the first region that names it
     for (int r = 0; r < c.regions_size(); ++r) {
         const auto& reg = c.regions(r);
         const std::string p = "regions[" + std::to_string(r) + "]";
-        const int m = material_index(c, reg.material());
-        if (m < 0) cf.fail(p + ".material", "unknown material '" + reg.material() + "'");
-        if (reg.material() != c.regions(0).material()) {
-            for (int q = 1; q < r; ++q)
-                if (c.regions(q).material() != c.regions(0).material() &&
-                    c.regions(q).material() != reg.material())
-                    cf.fail(p + ".material", "a third material '" + reg.material() +
-                                                 "': a case holds at most two (" + c.regions(0).material() +
-                                                 " and " + c.regions(q).material() + ")");
+        const auto found = index.find(reg.material());
+        if (found == index.end()) cf.fail(p + ".material", "unknown material '" + reg.material() + "'");
+        const int m = found->second;
+        if (reg.material() != first) {
+            if (!second) second = &reg.material();
+            if (reg.material() != *second)
+                cf.fail(p + ".material", "a third material '" + reg.material() +
+                                             "': a case holds at most two (" + first + " and " + *second +
+                                             ")");
         }
         // Without cavitation: the lowest admissible pressure, −P∞ (stiffened gas) or A − B (Tait, ρ > 0).
         const AnyEos eos = eos_of(c.materials(m));
@@ -294,6 +308,9 @@ void validate_regions(const CaseFile& cf) {
             // Barotropic (Tait water): the pressure follows from the density. Tolerance relative to
             // |p(ρ)| − p_min (for Tait: |p(ρ)| + B − A).
             const double p_rho = std::visit([&](const auto& e) { return e.pressure(reg.rho(), 0.0); }, eos);
+            if (!std::isfinite(p_rho))
+                cf.fail(p + ".rho", "material '" + reg.material() + "' gives no finite pressure at rho = " +
+                                        std::to_string(reg.rho()) + " kg/m^3");
             if (std::abs(reg.p() - p_rho) > 1e-6 * (std::abs(p_rho) - pmin))
                 cf.fail(p + ".p", "material '" + reg.material() +
                                       "' is barotropic, p = p(rho): rho = " + std::to_string(reg.rho()) +
@@ -383,9 +400,9 @@ void validate_cavitation(const CaseFile& cf) {
     const cfg::Case& c = cf.get();
     if (c.cavitation().enabled()) {
         bool barotropic = false;
-        for (const auto& reg : c.regions()) {
-            barotropic |= is_barotropic(eos_of(c.materials(material_index(c, reg.material()))));
-        }
+        const auto index = material_indices(c);
+        for (const auto& reg : c.regions())
+            barotropic |= is_barotropic(eos_of(c.materials(index.at(reg.material()))));
         if (!barotropic)
             cf.fail("cavitation.enabled",
                     "the cavitation model needs barotropic Tait water, and no region holds it");
@@ -397,12 +414,12 @@ void validate_gauges(const CaseFile& cf) {
     const cfg::Case& c = cf.get();
     const bool two_d = is_2d(c.geometry());
     const auto& d = c.domain();
+    std::set<std::string> names;
     for (int g = 0; g < c.gauges_size(); ++g) {
         const auto& ga = c.gauges(g);
         const std::string p = "gauges[" + std::to_string(g) + "]";
-        for (int h = 0; h < g; ++h)
-            if (c.gauges(h).name() == ga.name())
-                cf.fail(p + ".name", "gauge '" + ga.name() + "' is defined twice");
+        if (!names.insert(ga.name()).second)
+            cf.fail(p + ".name", "gauge '" + ga.name() + "' is defined twice");
         if (ga.x() < d.x_min() || ga.x() > d.x_max()) cf.fail(p + ".x", "gauge lies outside the domain");
         if (two_d && (ga.y() < d.y_min() || ga.y() > d.y_max()))
             cf.fail(p + ".y", "gauge lies outside the domain");

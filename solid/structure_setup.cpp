@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 
 namespace undex::solid {
 
@@ -284,12 +285,12 @@ void check_gauges(const CaseFile& cf, bool two_d) {
     for (const auto& L : st.layers())
         total += L.thickness();
     const double x_min = two_d ? st.plate().x_min() : 0, span = two_d ? st.plate().span() : 0;
+    std::set<std::string> names;
     for (int k = 0; k < st.gauges_size(); ++k) {
         const auto& g = st.gauges(k);
         const std::string path = "structure.gauges[" + std::to_string(k) + "]";
-        for (int j = 0; j < k; ++j)
-            if (st.gauges(j).name() == g.name())
-                cf.fail(path + ".name", "gauge '" + g.name() + "' is defined twice");
+        if (!names.insert(g.name()).second)
+            cf.fail(path + ".name", "gauge '" + g.name() + "' is defined twice");
         const double depth = two_d ? g.y() : g.x();
         if (!(depth >= 0 && depth <= total))
             cf.fail(path + (two_d ? ".y" : ".x"),
