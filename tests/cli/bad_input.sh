@@ -247,5 +247,17 @@ edit empty-directory "s|directory: \"$OUT\"|directory: \"\"|"
 refused "empty output.directory" "$TMP/empty-directory.case:14:" "output.directory" "empty" -- "$TMP/empty-directory.case"
 STATUS=64 refused "empty -o (a usage error)" "--output" "empty" -- "$F" -o ""
 
+# --- Numbers of `undex sample`, read whole and finite (usage errors, status 64).
+"$UNDEX" run "$F" > "$TMP/run.log" 2>&1 || fail "run the 1D fluid case: $(tail -n 2 "$TMP/run.log" | tr '\n' '|')"
+for line in "0,0 1x,0" "0,nan 1,0" "0,0 1,0 junk" "0,0" "0,0 1,0,"; do
+    "$UNDEX" sample "$OUT" --time 0.01 --line "$line" --points 2 > "$TMP/stdout" 2> "$TMP/stderr"
+    rc=$?
+    if [ $rc -eq 64 ] && grep -qE -- "a point is x,y|--line is two points" "$TMP/stderr"; then
+        pass "sample --line '$line': $(head -n 1 "$TMP/stderr")"
+    else
+        fail "sample --line '$line': exit status $rc, $(tr '\n' '|' < "$TMP/stderr")"
+    fi
+done
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
