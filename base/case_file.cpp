@@ -15,7 +15,6 @@
 #include <fstream>
 #include <limits>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -435,22 +434,36 @@ class Collector : public pb::io::ErrorCollector {
         std::ostringstream s;
         s << file_;
         if (line >= 0) s << ':' << line + 1 << ':' << column + 1;
-        const std::string field = field_before(line, column);
+        // The field being read, unless protobuf's message names one itself.
+        const std::string field = message.find("ield") == std::string::npos ? field_before(line, column) : "";
         if (!field.empty()) s << ": field '" << field << "'";
         s << ": " << message;
         first_ = s.str();
     }
-    // The name of the field whose value the parser was reading: the last "name:" before the column.
+    // The name of the field whose value the parser was reading: the last "name:" before the column (a
+    // scan back from the column: linear in the line, however long).
     std::string field_before(int line, int column) const {
         if (line < 0) return "";
-        std::istringstream in(text_);
-        std::string l;
-        for (int k = 0; k <= line && std::getline(in, l); ++k) {
-        }
-        static const std::regex assignment(R"(([A-Za-z_][A-Za-z0-9_]*)\s*:\s*[^:]*$)");
-        std::smatch m;
-        const std::string before = l.substr(0, std::min<size_t>(column, l.size()));
-        return std::regex_search(before, m, assignment) ? m[1].str() : "";
+        size_t start = 0;
+        for (int k = 0; k < line && start != std::string::npos; ++k)
+            start = text_.find('\n', start) == std::string::npos ? std::string::npos
+                                                                 : text_.find('\n', start) + 1;
+        if (start == std::string::npos) return "";
+        const size_t end = std::min(
+            {text_.find('\n', start), start + static_cast<size_t>(std::max(column, 0)), text_.size()});
+        const size_t colon = text_.rfind(':', end == 0 ? 0 : end - 1);
+        if (colon == std::string::npos || colon < start || end == start) return "";
+        size_t k = colon;
+        while (k > start && (text_[k - 1] == ' ' || text_[k - 1] == '\t'))
+            --k;
+        const size_t name_end = k;
+        const auto word = [](char c) {
+            return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+        };
+        while (k > start && word(text_[k - 1]))
+            --k;
+        if (k == name_end || (text_[k] >= '0' && text_[k] <= '9')) return "";
+        return text_.substr(k, name_end - k);
     }
     void AddWarning(int, pb::io::ColumnNumber, const std::string&) override {}
     const std::string& first() const { return first_; }

@@ -205,6 +205,11 @@ refused "plate of 1e8 elements" "--set structure.plate.element_size" "structure 
     > "$TMP/long-list.json"
 refused "a list of 1000001 numbers" "$TMP/long-list.json:1:" "output.times" "at most 1000000" -- "$TMP/long-list.json"
 
+# A text case on one 6 MB line with an error at its end (the column is found by a linear scan).
+/usr/bin/python3 -c "print('geometry: PLANAR_1D end_time: 1 output { times: [' + ','.join(['1'] * 3000000) + ', x] }')" \
+    > "$TMP/long-line.case"
+refused "an error at column 6000051" "$TMP/long-line.case:1:6000051:" "times" -- "$TMP/long-line.case"
+
 # --- JSON: strict, with line:col.
 jedit duplicate 's/"rho": 0.125/"rho": 0.125, "rho": 2/'
 refused "JSON duplicate key" "$TMP/duplicate.json:8:" "duplicate key 'rho'" -- "$TMP/duplicate.json"
