@@ -699,6 +699,14 @@ void schema_walk(const pb::Descriptor* d, std::set<const pb::Descriptor*>& seen,
     }
 }
 
+// "must lie in (0, 1] (got 1.5; the range of Numerics.cfl in proto/case.proto)", or "must be a finite
+// number in ..." for NaN and ±inf.
+std::string out_of_range(double x, const Range& r, const pb::FieldDescriptor* f) {
+    return std::string(std::isfinite(x) ? "must lie in " : "must be a finite number in ") + r.text() +
+           " (got " + number_text(x) + "; the range of " + f->containing_type()->name() + "." + f->name() +
+           " in proto/case.proto)";
+}
+
 // Every set number of m (and of its set messages) within its range.
 void check_message(const CaseFile& cf, const pb::Message& m, const std::string& path) {
     const auto* d = m.GetDescriptor();
@@ -720,11 +728,7 @@ void check_message(const CaseFile& cf, const pb::Message& m, const std::string& 
             const Range r = range_of(f);
             for (int k = 0; k < n; ++k) {
                 const double x = number_value(m, f, k);
-                if (!r.admits(x))
-                    cf.fail(p + "[" + std::to_string(k) + "]",
-                            (std::isfinite(x) ? "" : "not a finite number: ") + number_text(x) +
-                                " lies outside the range " + r.text() + " of " + d->name() + "." + f->name() +
-                                " (proto/case.proto)");
+                if (!r.admits(x)) cf.fail(p + "[" + std::to_string(k) + "]", out_of_range(x, r, f));
             }
             continue;
         }
@@ -736,10 +740,7 @@ void check_message(const CaseFile& cf, const pb::Message& m, const std::string& 
         if (!is_number(f)) continue;
         const Range r = range_of(f);
         const double x = number_value(m, f, -1);
-        if (!r.admits(x))
-            cf.fail(p, (std::isfinite(x) ? "" : "not a finite number: ") + number_text(x) +
-                           " lies outside the range " + r.text() + " of " + d->name() + "." + f->name() +
-                           " (proto/case.proto)");
+        if (!r.admits(x)) cf.fail(p, out_of_range(x, r, f));
     }
 }
 

@@ -141,11 +141,11 @@ admitted "a plate of 1.05 M elements" "$PLATE" "${O[@]}" --set structure.plate.e
 
 # --- Non-finite and out-of-range numbers: in the file (text format: FILE:LINE:COL: FIELD).
 edit end-inf 's/end_time: 0.01/end_time: inf/'
-refused "end_time inf" "$TMP/end-inf.case:13:1: end_time" "not a finite number" "(0, 1e+06]" -- "$TMP/end-inf.case"
+refused "end_time inf" "$TMP/end-inf.case:13:1: end_time" "must be a finite number" "(0, 1e+06]" -- "$TMP/end-inf.case"
 edit end-huge 's/end_time: 0.01/end_time: 1e400/'
-refused "end_time 1e400" "$TMP/end-huge.case:13:1: end_time" "not a finite number" -- "$TMP/end-huge.case"
+refused "end_time 1e400" "$TMP/end-huge.case:13:1: end_time" "must be a finite number" -- "$TMP/end-huge.case"
 edit rho-inf 's/rho: 0.125/rho: inf/'
-refused "density inf" "$TMP/rho-inf.case:7:" "regions[1].rho" "not a finite number" -- "$TMP/rho-inf.case"
+refused "density inf" "$TMP/rho-inf.case:7:" "regions[1].rho" "must be a finite number" -- "$TMP/rho-inf.case"
 edit u-nan 's/rho: 0.125 p/rho: 0.125 u: nan p/'
 refused "velocity nan" "$TMP/u-nan.case:7:" "regions[1].u" "nan" -- "$TMP/u-nan.case"
 edit gamma-inf 's/gamma: 1.4/gamma: inf/'
@@ -161,9 +161,9 @@ refused "cells_x 0" "$TMP/cells-zero.case:4:" "domain.cells_x" "[1, 1e+09]" -- "
 edit cfl-big 's/cfl: 0.2/cfl: 1.5/'
 refused "cfl 1.5" "$TMP/cfl-big.case:12:" "numerics.cfl" "(0, 1]" -- "$TMP/cfl-big.case"
 # By --set, in the other messages: the message names the override.
-refused "Young's modulus inf" "--set structure.materials[0].elastic.E" "not a finite number" -- \
+refused "Young's modulus inf" "--set structure.materials[0].elastic.E" "must be a finite number" -- \
     "$COUPLED" "${O[@]}" --set structure.materials[0].elastic.E=inf
-refused "plate mass 1e400" "--set structure.rigid_plate.mass_per_area" "not a finite number" -- \
+refused "plate mass 1e400" "--set structure.rigid_plate.mass_per_area" "must be a finite number" -- \
     "$RIGID" "${O[@]}" --set structure.rigid_plate.mass_per_area=1e400
 refused "Tait B inf" "--set materials[1].tait.B" -- "$TWO" "${O[@]}" --set materials[1].tait.B=inf
 refused "foam curve element inf" "--set structure.materials[1].deshpande_fleck.sigma_c[2]" -- \
@@ -218,7 +218,7 @@ refused "JSON trailing comma in an object" "$TMP/trailing-object.json:11:" "trai
 jedit trailing-array 's/0.002, 0.004\]/0.002, 0.004,]/'
 refused "JSON trailing comma in a list" "$TMP/trailing-array.json:13:" "trailing comma" -- "$TMP/trailing-array.json"
 jedit json-range 's/"rho": 0.125/"rho": 1e400/'
-refused "JSON density 1e400" "$TMP/json-range.json:8:" "regions[1].rho" "not a finite number" -- "$TMP/json-range.json"
+refused "JSON density 1e400" "$TMP/json-range.json:8:" "regions[1].rho" "must be a finite number" -- "$TMP/json-range.json"
 jedit json-type 's/"cfl": 0.2/"cfl": "fast"/'
 refused "JSON wrong type" "$TMP/json-type.json:11:" "numerics.cfl" "a number is expected" -- "$TMP/json-type.json"
 jedit json-unknown 's/"degree": 1/"nosuch": 1/'
