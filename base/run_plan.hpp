@@ -37,10 +37,25 @@ bool has_structure(const CaseFile& c);
 RunPlan plan(const CaseFile& c);
 // Whether an output directory can be created or written (tested for real, leaving nothing behind).
 bool writable_directory(const std::string& directory);
-// Checks what every solver's run reads of the case (throws CaseError naming the field): end time, output
-// times, interval, progress interval, gauge cadence, numerics.max_steps, the output directory, the coupling
-// timeouts.
+// The most output times a case may ask for (output.times, every output.interval, end_time): each is a
+// snapshot of the whole state, so a million is beyond any use, and the list stays small (8 MB) and quick to
+// make in `check`.
+constexpr double max_output_times = 1e6;
+// Checks what every solver's run reads of the case (throws CaseError naming the field): first every number
+// against its range (CaseFile::check_ranges), then output times within end_time and at most
+// max_output_times of them (counted before any list is made), the output directory (not empty, writable).
 void validate_plan(const CaseFile& c);
+// The memory a run may take: the machine's physical memory (sysconf), or the address-space limit when it is
+// lower (ulimit -v); what says which.
+struct MemoryLimit {
+    double bytes;
+    std::string what;
+};
+MemoryLimit memory_limit();
+// Refuses (CaseError at field) count items of bytes_each bytes that would not fit in memory_limit(): called
+// with sizes computed in double, before anything of that size is made; the message says both numbers.
+void check_memory(const CaseFile& c, const std::string& field, const std::string& what, double count,
+                  double bytes_each);
 // A prescribed pressure history p(t) (exponential or table) of a case, checked and as a function; shared by
 // fluid boundaries and structure faces.
 void validate_pressure_history(const CaseFile& c, const config::PressureHistory& h, const std::string& path);

@@ -61,7 +61,10 @@ void describe(CLI::App& app, const SolverCommands& c, Request& r) {
         ->type_name("KEY=VALUE")
         ->allow_extra_args(false);
     app.add_option("-o,--output", r.output, "the output directory (the override output.directory=DIR)")
-        ->type_name("DIR");
+        ->type_name("DIR")
+        ->check([](const std::string& dir) {
+            return dir.empty() ? std::string("the output directory is empty") : "";
+        });
     auto* couple = app.add_option("--couple", r.couple, "couple to the other solver through ENDPOINT")
                        ->type_name("ENDPOINT");
     if (c.check)

@@ -163,8 +163,8 @@ class FluidRun : public Run {
 } // namespace
 
 int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
+    validate(c); // first: the plan's output times are counted there before they are made
     const RunPlan p = plan(c);
-    validate(c);
     const bool coupled = coupled_case(c);
     if (coupled && couple.empty())
         c.fail("boundaries.x_max",

@@ -7,6 +7,7 @@
 #include "fluid/setup.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -16,18 +17,21 @@ namespace undex::fluid {
 
 namespace {
 
+// "x,y" or "x" (y = 0): finite numbers, each read whole (no "1x" read as 1).
 std::vector<double> parse_point(const std::string& s) {
     std::vector<double> v;
     std::stringstream ss(s);
     std::string part;
-    try {
-        while (std::getline(ss, part, ','))
-            v.push_back(std::stod(part));
-    } catch (const std::logic_error&) {
-        throw UsageError("a point is x,y (got '" + s + "')");
+    while (std::getline(ss, part, ',')) {
+        char* end = nullptr;
+        const double x = std::strtod(part.c_str(), &end);
+        if (part.empty() || *end != '\0' || !std::isfinite(x))
+            throw UsageError("a point is x,y of two finite numbers (got '" + s + "')");
+        v.push_back(x);
     }
     if (v.size() == 1) v.push_back(0.0);
-    if (v.size() != 2) throw UsageError("a point is x,y (got '" + s + "')");
+    if (v.size() != 2 || (!s.empty() && s.back() == ','))
+        throw UsageError("a point is x,y of two finite numbers (got '" + s + "')");
     return v;
 }
 
@@ -43,9 +47,12 @@ std::vector<std::string> checked_fields(const std::vector<std::string>& asked) {
 
 int sample(const SampleRequest& r, std::FILE* out) {
     std::stringstream line(r.line);
-    std::string p0s, p1s;
+    std::string p0s, p1s, more;
     line >> p0s >> p1s;
+    if (p1s.empty() || line >> more)
+        throw UsageError("--line is two points \"x0,y0 x1,y1\" (got '" + r.line + "')");
     const auto p0 = parse_point(p0s), p1 = parse_point(p1s);
+    if (!std::isfinite(r.time)) throw UsageError("--time must be a finite number");
     const int n = r.points;
     if (n < 1) throw UsageError("--points must be ≥ 1");
     const auto fields = checked_fields(r.fields);

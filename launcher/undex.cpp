@@ -122,7 +122,10 @@ void add_case_options(CLI::App& app, CaseRequest& r) {
         ->type_name("KEY=VALUE")
         ->allow_extra_args(false);
     app.add_option("-o,--output", r.output, "the output directory (the override output.directory=DIR)")
-        ->type_name("DIR");
+        ->type_name("DIR")
+        ->check([](const std::string& dir) {
+            return dir.empty() ? std::string("the output directory is empty") : "";
+        });
 }
 
 // What the command line asked for.

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 
 namespace undex::solid {
 
@@ -90,6 +91,29 @@ void check_face(const CaseFile& cf, const cfg::SolidFace& f, const std::string& 
 
 namespace {
 
+// The most elements of a structure: node and element numbers are int (solid/plate_2d.hpp).
+constexpr double max_elements = 1e9;
+
+// The element columns of a 2D plate, in double (checked before it is made an int).
+double plate_columns(const cfg::SolidPlate& pl) {
+    return std::max(1.0, std::round(pl.span() / pl.element_size()));
+}
+
+// The memory of one element in a run, from the arrays of solid/column_1d.hpp and solid/plate_2d.hpp: the
+// integration point state (PointState) and per node (about one per element in a large mesh) coordinates,
+// displacements, velocities, accelerations, masses, forces and increments; a plate has besides its quad
+// connectivity (in the mesh and in the solver), node incidence, hourglass vectors and element forces; an
+// output writes a few fields per node and element.
+double bytes_per_element(bool two_d) {
+    const double point = sizeof(PointState), output = 8.0 * 12;
+    if (!two_d) return point + 32 /* Element */ + 6 * 8 /* x, mass, u, v, a, force */ + output;
+    const double node = 13 * 8 /* X, Y, u, v, a, mass, w, du */ + 2 +
+                        2 * 4 /* cx, cy, incidence start, wet */ + 2 * 8 /* mesh coordinates */;
+    const double element = 2 * (16 + 4) /* quads and laws, mesh and solver */ + 32 /* gamma */ +
+                           2 * 8 /* kx, ky */ + 8 * 8 /* efx, efy */ + 8 /* ehg */ + 4 * 4 /* incidence */;
+    return point + node + element + output;
+}
+
 void check_edge(const CaseFile& cf, const cfg::SolidEdge& e, const std::string& path) {
     if (e.type() == cfg::SolidEdge::TYPE_UNSET) cf.fail(path + ".type", "edge type is not set");
 }
@@ -140,20 +164,11 @@ RigidPlateModel make_rigid_plate(const CaseFile& cf) {
         cf.fail("structure.front.type", "a rigid plate is driven by the fluid: its front face is FLUID");
     if (st.back().type() != cfg::SolidFace::FREE)
         cf.fail("structure.back.type", "a rigid plate's back face is FREE (its back_pressure acts there)");
-    const auto& r = st.rigid_plate();
-    if (!(r.mass_per_area() > 0)) cf.fail("structure.rigid_plate.mass_per_area", "must be positive");
-    if (!(r.stiffness() >= 0)) cf.fail("structure.rigid_plate.stiffness", "must be >= 0");
-    if (!(r.damping() >= 0)) cf.fail("structure.rigid_plate.damping", "must be >= 0");
-    if (!std::isfinite(r.back_pressure())) cf.fail("structure.rigid_plate.back_pressure", "must be finite");
-    if (!(st.safety() > 0 && st.safety() <= 1))
-        cf.fail("structure.safety", "safety factor must lie in (0, 1]");
+    const auto& r = st.rigid_plate(); // its numbers are within their ranges (validate_plan)
     RigidPlateModel m{r.mass_per_area(), r.stiffness(), r.damping(), r.back_pressure(), 0};
     // A spring–mass oscillator of period 2π sqrt(m/k) needs steps well below it; without a spring any step.
     m.dt = m.stiffness > 0 ? st.safety() * 0.1 * std::sqrt(m.mass_per_area / m.stiffness) : 1e300;
-    if (st.has_dt()) {
-        if (!(st.dt() > 0)) cf.fail("structure.dt", "time step must be positive");
-        m.dt = st.dt();
-    }
+    if (st.has_dt()) m.dt = st.dt();
     return m;
 }
 
@@ -172,7 +187,7 @@ void check_structure(const CaseFile& cf) {
         make_rigid_plate(cf);
         return;
     }
-    make_structure(cf);
+    make_structure(cf, Build::IfSmall);
 }
 
 namespace {
@@ -210,10 +225,6 @@ std::vector<Layer1D> make_layers(const CaseFile& cf,
         const auto law = laws.find(L.material());
         if (law == laws.end())
             cf.fail(path + ".material", "unknown structure material '" + L.material() + "'");
-        if (!(L.element_size() > 0))
-            cf.fail(path + ".element_size",
-                    "element size must be positive (got " + gfmt(L.element_size()) + " m)");
-        if (!(L.thickness() > 0)) cf.fail(path + ".thickness", "thickness must be positive");
         if (L.thickness() < L.element_size() * (1 - 1e-12))
             cf.fail(path + ".thickness", "the layer (" + gfmt(L.thickness()) +
                                              " m) is thinner than one element (" + gfmt(L.element_size()) +
@@ -221,7 +232,12 @@ std::vector<Layer1D> make_layers(const CaseFile& cf,
         Layer1D layer;
         layer.law = law->second;
         layer.thickness = L.thickness();
-        layer.elements = std::max(1, static_cast<int>(std::lround(L.thickness() / L.element_size())));
+        // Counted in double: an element size of 1e-12 m must not wrap around an int.
+        const double n = std::max(1.0, std::round(L.thickness() / L.element_size()));
+        if (!(n <= max_elements))
+            cf.fail(path + ".element_size", gfmt(n) + " elements through the layer; at most " +
+                                                gfmt(max_elements) + " in a structure");
+        layer.elements = static_cast<int>(n);
         layer.uniaxial_law = law->second->name() == "foam_1d";
         if (two_d && layer.uniaxial_law)
             cf.fail(path + ".material",
@@ -245,19 +261,11 @@ void check_conditions(const CaseFile& cf) {
     if (!known)
         cf.fail("structure.kinematics",
                 "unknown kinematics '" + st.kinematics() + "'; choose uniaxial_stress or uniaxial_strain");
-    if (!(st.safety() > 0 && st.safety() <= 1))
-        cf.fail("structure.safety", "safety factor must lie in (0, 1]");
-    if (!(st.hourglass() >= 0)) cf.fail("structure.hourglass", "hourglass factor must be >= 0");
-    if (st.threads() < 0) cf.fail("structure.threads", "must be >= 0");
 }
 
 // The plate's span, element size, edges and axis.
 void check_plate(const CaseFile& cf, bool axi) {
     const auto& pl = cf.get().structure().plate();
-    if (!(pl.span() > 0)) cf.fail("structure.plate.span", "span must be positive");
-    if (!(pl.element_size() > 0))
-        cf.fail("structure.plate.element_size",
-                "element size must be positive (got " + gfmt(pl.element_size()) + " m)");
     if (pl.span() < pl.element_size() * (1 - 1e-12))
         cf.fail("structure.plate.span", "the span (" + gfmt(pl.span()) + " m) is shorter than one element (" +
                                             gfmt(pl.element_size()) + " m)");
@@ -277,12 +285,12 @@ void check_gauges(const CaseFile& cf, bool two_d) {
     for (const auto& L : st.layers())
         total += L.thickness();
     const double x_min = two_d ? st.plate().x_min() : 0, span = two_d ? st.plate().span() : 0;
+    std::set<std::string> names;
     for (int k = 0; k < st.gauges_size(); ++k) {
         const auto& g = st.gauges(k);
         const std::string path = "structure.gauges[" + std::to_string(k) + "]";
-        for (int j = 0; j < k; ++j)
-            if (st.gauges(j).name() == g.name())
-                cf.fail(path + ".name", "gauge '" + g.name() + "' is defined twice");
+        if (!names.insert(g.name()).second)
+            cf.fail(path + ".name", "gauge '" + g.name() + "' is defined twice");
         const double depth = two_d ? g.y() : g.x();
         if (!(depth >= 0 && depth <= total))
             cf.fail(path + (two_d ? ".y" : ".x"),
@@ -306,13 +314,10 @@ std::unique_ptr<Plate2D> make_plate(const CaseFile& cf, const std::vector<Layer1
         per_layer.push_back(L.law);
     }
     const auto& pl = st.plate();
-    const int nx = std::max(1, static_cast<int>(std::lround(pl.span() / pl.element_size())));
+    const int nx = static_cast<int>(plate_columns(pl)); // bounded by make_structure's size check
     const LayeredPlate layout = layered_plate(pl.x_min(), pl.span(), nx, thickness, rows);
     auto plate = std::make_unique<Plate2D>(layout.mesh, per_layer, axi ? Plane::Axisymmetric : Plane::Strain,
                                            st.hourglass());
-    if (st.front().type() == cfg::SolidFace::FLUID)
-        cf.fail("structure.front.type", "coupling a 2D plate to a fluid is not available yet; 1D columns "
-                                        "(PLANAR_1D) couple");
     apply_plate_conditions(st, layout, *plate);
     return plate;
 }
@@ -335,7 +340,7 @@ std::unique_ptr<Column1D> make_column(const CaseFile& cf, const std::vector<Laye
 
 } // namespace
 
-StructureModel make_structure(const CaseFile& cf) {
+StructureModel make_structure(const CaseFile& cf, Build build) {
     const auto& c = cf.get();
     if (!c.has_structure()) cf.fail("structure", "the case has no structure");
     undex::validate_plan(cf);
@@ -364,6 +369,21 @@ StructureModel make_structure(const CaseFile& cf) {
     model.threads = st.threads();
     for (const auto& L : st.layers())
         model.layers.push_back(L.material());
+    // The size, in double, before anything is made.
+    double rows = 0;
+    for (const auto& L : layers)
+        rows += L.elements;
+    model.elements = two_d ? rows * plate_columns(st.plate()) : rows;
+    const std::string size_field = two_d ? "structure.plate.element_size" : "structure.layers";
+    if (!(model.elements <= max_elements))
+        cf.fail(size_field,
+                gfmt(model.elements) + " elements; at most " + gfmt(max_elements) + " in a structure");
+    undex::check_memory(cf, size_field, "structure elements", model.elements, bytes_per_element(two_d));
+    if (two_d && st.front().type() == cfg::SolidFace::FLUID)
+        cf.fail("structure.front.type", "coupling a 2D plate to a fluid is not available yet; 1D columns "
+                                        "(PLANAR_1D) couple");
+    if (build == Build::IfSmall && model.elements * bytes_per_element(two_d) > check_build_bytes)
+        return model; // checked but for the forced time step against the stable one: at run time
     if (two_d)
         model.structure = make_plate(cf, layers, axi);
     else
@@ -372,7 +392,6 @@ StructureModel make_structure(const CaseFile& cf) {
     const double stable = model.structure->stable_dt();
     model.dt = st.safety() * stable;
     if (st.has_dt()) {
-        if (!(st.dt() > 0)) cf.fail("structure.dt", "time step must be positive");
         if (st.dt() > stable)
             cf.fail("structure.dt", "time step " + gfmt(st.dt()) + " s exceeds the stable one, " +
                                         gfmt(stable) + " s (min L_e / c_e)");

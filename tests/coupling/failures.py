@@ -200,7 +200,7 @@ check(launcher.returncode != 0 and "stopped by a signal" in st[0] and "stopped b
 for value in ("-1", "0", "inf"):
     r = subprocess.run([os.path.join(BIN, "undex"), "check", os.path.join(CASES, "taylor_plate_1d.case"), "--set",
                         f"coupling.timeout={value}"], capture_output=True, text=True)
-    check(r.returncode == 1 and "coupling.timeout: must lie in (0, 86400] s" in r.stderr,
+    check(r.returncode == 1 and "coupling.timeout: must" in r.stderr and "(0, 86400]" in r.stderr,
           f"coupling.timeout = {value} refused by undex check", r.stderr)
 
 print(f"{passed} passed, {len(failures)} failed")
