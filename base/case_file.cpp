@@ -24,14 +24,20 @@ namespace pb = google::protobuf;
 
 namespace {
 
+struct JsonMember;
+
 // A JSON value with the byte offset where it starts (for members: where the key starts).
 struct JsonValue {
     enum Kind { Null, Bool, Number, String, Array, Object } kind = Null;
     long offset = 0;
     std::string text; // a number's token, a string's decoded value
     bool boolean = false;
-    std::vector<std::pair<std::string, JsonValue>> members; // the value's offset is that of its key
+    std::vector<JsonMember> members; // the value's offset is that of its key
     std::vector<JsonValue> elements;
+};
+struct JsonMember {
+    std::string key;
+    JsonValue value;
 };
 
 // "file:line:col" of a byte offset of text.
@@ -130,7 +136,7 @@ class JsonReader {
             skip_space();
             JsonValue member = value(depth + 1);
             member.offset = key_at;
-            v.members.emplace_back(std::move(key), std::move(member));
+            v.members.push_back({std::move(key), std::move(member)});
             skip_space();
             if (k_ < s_.size() && s_[k_] == ',') {
                 ++k_;
