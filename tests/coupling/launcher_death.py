@@ -90,10 +90,11 @@ for side, solver in (("fluid", "undex-fluid"), ("solid", "undex-solid")):
     check(st.startswith("failed: " + why) and good, f"{side}.h5 holds its last good state, status says why", st)
     check(f"{solver}: error: {why}" in log and f"{solver}: the last good state" in log,
           f"{side}.log ends with why and where the last good state is", log[-600:])
-lock = open(os.path.join(out, "undex.lock")).read()
+lock_path = os.path.join(out, "undex.lock")
+lock = open(lock_path).read() if os.path.exists(lock_path) else "(no lock file)"
 r = subprocess.run([UNDEX, "run", CASE, "-o", out, "--set", "end_time=1e-4"], capture_output=True, text=True)
 check(r.returncode == 1 and "stale lock" in r.stderr and f"pid {launcher.pid} " in r.stderr and lock.startswith(
-    f"pid={launcher.pid}\n"), "the killed undex's lock is stale: a new run refused, naming it", r.stderr)
+    f"pid={launcher.pid}\n"), "the killed undex's lock is stale: a new run refused, naming it", r.stderr + lock)
 r = subprocess.run([UNDEX, "run", CASE, "-o", out, "--set", "end_time=1e-4", "--force"], capture_output=True,
                    text=True)
 check(r.returncode == 0 and last_state(os.path.join(out, "fluid.h5"))[0] == "complete" and
