@@ -89,9 +89,12 @@ int drive(Run& run, const RunPlan& plan, const std::string& name, std::ostream& 
     } catch (const RunFailure& f) {
         why = f.what(), status = f.status;
     } catch (const std::exception& e) {
-        if (!run.coupling_error(e)) throw;
-        status = stop_requested() ? exit_stopped : exit_coupling_failed; // a signal may end a wait
-        why = (status == exit_stopped ? stop_reason() + "; " : "") + "coupling: " + e.what();
+        // A signal that ends a wait of the coupling, or any ZeroMQ call (EINTR), is the stop it asked for.
+        const bool coupling = run.coupling_error(e);
+        if (!coupling && !stop_requested()) throw;
+        status = stop_requested() ? exit_stopped : exit_coupling_failed;
+        why =
+            (status == exit_stopped ? stop_reason() + "; " : "") + (coupling ? "coupling: " : "") + e.what();
     }
     if (status != exit_complete) {
         run.fail(why);

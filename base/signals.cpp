@@ -14,39 +14,40 @@ namespace undex {
 
 namespace {
 volatile std::sig_atomic_t stop_signal = 0;
-
-// The pid of the undex that started this solver, 0 when started otherwise.
-long launcher_pid() {
-    const char* env = std::getenv(launcher_pid_env);
-    return env ? std::atol(env) : 0;
-}
+// Read once by install_stop_handler, for the handler.
+long launcher = 0;            // UNDEX_LAUNCHER_PID, 0 when not started by undex
+char launcher_log[4096] = {}; // UNDEX_LOG
+volatile std::sig_atomic_t following = 0;
 
 bool launcher_ended() {
-    const long pid = launcher_pid();
-    return pid > 0 && getppid() != pid;
+    return launcher > 0 && getppid() != launcher;
 }
 
-// stdout and stderr appended to the launcher's log of this process (once).
+// Once the launcher has gone, stdout and stderr (the pipe it read) are appended to its log of this process
+// instead. Called in the signal handler: open, dup2 and close only (async-signal-safe), so that everything
+// written from here on, the error line and the last good state's place included, lands in the log.
 void follow_into_log() {
-    static bool done = false;
-    const char* log = std::getenv(launcher_log_env);
-    if (done || !log || !*log) return;
-    done = true;
-    const int fd = open(log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+    if (following || !launcher_log[0]) return;
+    following = 1;
+    const int fd = open(launcher_log, O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) return;
-    std::cout.flush(), std::cerr.flush();
-    std::fflush(stdout), std::fflush(stderr); // whatever is left fails on the closed pipe and is dropped
     dup2(fd, 1), dup2(fd, 2);
     close(fd);
-    std::clearerr(stdout), std::clearerr(stderr);
-    std::cout.clear(), std::cerr.clear();
+}
+
+void on_stop(int sig) {
+    stop_signal = sig;
+    if (launcher_ended()) follow_into_log();
 }
 
 } // namespace
 
 void install_stop_handler() {
+    if (const char* pid = std::getenv(launcher_pid_env)) launcher = std::atol(pid);
+    if (const char* log = std::getenv(launcher_log_env))
+        std::snprintf(launcher_log, sizeof launcher_log, "%s", log);
     struct sigaction sa {};
-    sa.sa_handler = [](int sig) { stop_signal = sig; };
+    sa.sa_handler = on_stop;
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
     sigaction(SIGHUP, &sa, nullptr);
@@ -66,8 +67,8 @@ std::string stop_reason() {
                                         : "?") +
                       ")";
     if (launcher_ended()) {
-        why += ": undex (pid " + std::to_string(launcher_pid()) + "), which started this solver, ended";
-        follow_into_log();
+        why += ": undex (pid " + std::to_string(launcher) + "), which started this solver, ended";
+        std::cout.clear(), std::cerr.clear(); // a write that failed before the handler ran is forgotten
     }
     return why;
 }

@@ -8,7 +8,7 @@
 // UNDEX_LAUNCHER_PID; the solver's parent is then no longer that pid, and stop_reason() says so. A launcher
 // that died before the handler was installed is caught by the same parent check in install_stop_handler. The
 // launcher also names in UNDEX_LOG the log it keeps of the solver's output (DIR/fluid.log, DIR/solid.log):
-// once it is gone, the solver appends its output there itself.
+// from the signal on, the solver appends its stdout and stderr there itself (the handler redirects them).
 #pragma once
 #include <string>
 
@@ -21,8 +21,7 @@ inline constexpr const char* launcher_log_env = "UNDEX_LOG";
 void install_stop_handler();
 bool stop_requested();
 // Why the run stops: "stopped by a signal (SIGTERM)", or for a solver whose launcher ended "stopped by a
-// signal (SIGHUP): undex (pid N), which started this solver, ended"; in that case this process's stdout and
-// stderr go to the launcher's log of it (UNDEX_LOG) from here on.
+// signal (SIGHUP): undex (pid N), which started this solver, ended".
 std::string stop_reason();
 // SIGPIPE ignored (the solvers and undex call it first thing).
 void ignore_broken_pipes();
