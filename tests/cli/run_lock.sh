@@ -3,8 +3,9 @@
 #  1. a second run into the directory of a live coupled `undex run` is refused at once (exit status 1) with a
 #     message naming the first (pid, host, start time, command), --force included, and touches no file of the
 #     first (checksums taken while the first is held with SIGSTOP); the first then completes;
-#  2. a solver started alone and killed with SIGKILL leaves a stale lock: refused without --force (the file and
-#     the lock unchanged), taken over with --force, and removed when that run ends;
+#  2. a solver started alone and stopped by SIGTERM or SIGHUP removes its lock; killed with SIGKILL it leaves a
+#     stale lock: refused without --force (the file and the lock unchanged), taken over with --force, and
+#     removed when that run ends;
 #  3. a lock file written by a process that has exited is stale as well (a coupled run takes it with --force);
 #  4. `undex run CASE | head -1` completes the run (a single-field run and a coupled one): exit status 0,
 #     status `complete`, the logs written to the end;
@@ -58,7 +59,20 @@ rc=$?
 check "the first run completes (exit $rc), both outputs complete, its lock removed" \
     '[ $rc -eq 0 ] && [ "$(status_of "$one/fluid.h5")" = complete ] && [ "$(status_of "$one/solid.h5")" = complete ] && [ ! -e "$one/undex.lock" ]'
 
-# 2. A solver alone killed with SIGKILL: a stale lock.
+# 2a. A solver alone stopped by SIGTERM or SIGHUP (its terminal closed): last good state, exit 4, lock removed.
+for sig in TERM HUP; do
+    "$bin/undex-fluid" "$cases/sod_1d.case" --set domain.cells_x=3000 -o "$dir/sig$sig" >"$dir/sig.out" 2>&1 &
+    victim=$!
+    pids+=("$victim")
+    wait_for '[ -f "$dir/sig$sig/fluid.h5" ] && grep -q "^pid=$victim" "$dir/sig$sig/undex.lock" 2>/dev/null'
+    kill -$sig "$victim"
+    wait "$victim"
+    rc=$?
+    check "SIG$sig to a solver alone: exit $rc (4), status says so, lock removed" \
+        '[ $rc -eq 4 ] && [ "$(status_of "$dir/sig$sig/fluid.h5")" = "failed: stopped by a signal (SIG$sig)" ] && [ ! -e "$dir/sig$sig/undex.lock" ]'
+done
+
+# 2b. A solver alone killed with SIGKILL: a stale lock.
 two=$dir/two
 "$bin/undex-fluid" "$cases/sod_1d.case" --set domain.cells_x=3000 -o "$two" >"$dir/two.out" 2>&1 &
 victim=$!
