@@ -73,8 +73,10 @@ std::string stop_reason() {
     return why;
 }
 
-void ignore_broken_pipes() {
+void protect_standard_streams() {
     signal(SIGPIPE, SIG_IGN);
+    for (int fd = 0; fd < 3; ++fd)
+        if (fcntl(fd, F_GETFD) < 0 && open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY) != fd) break;
 }
 
 } // namespace undex

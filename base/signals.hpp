@@ -23,7 +23,9 @@ bool stop_requested();
 // Why the run stops: "stopped by a signal (SIGTERM)", or for a solver whose launcher ended "stopped by a
 // signal (SIGHUP): undex (pid N), which started this solver, ended".
 std::string stop_reason();
-// SIGPIPE ignored (the solvers and undex call it first thing).
-void ignore_broken_pipes();
+// SIGPIPE ignored, and /dev/null opened on a standard descriptor that is closed (`undex run CASE >&-`), so
+// that no file opened later (an output, the run lock) becomes stdout. The solvers and undex call it first
+// thing.
+void protect_standard_streams();
 
 } // namespace undex

@@ -100,7 +100,7 @@ int dispatch(const SolverCommands& c, Request& r) {
 } // namespace
 
 int solver_main(int argc, char** argv, const SolverCommands& c) {
-    ignore_broken_pipes();
+    protect_standard_streams();
     CLI::App app(c.description, c.name);
     Request r;
     r.command = command_line(argc, argv);

@@ -205,7 +205,7 @@ int dispatch(const CLI::App& app, const Request& r) {
 } // namespace
 
 int main(int argc, char** argv) {
-    undex::ignore_broken_pipes(); // a closed stdout costs no run: the logs and the children go on
+    undex::protect_standard_streams(); // a closed stdout costs no run: the logs and the children go on
     CLI::App app("undex: underwater explosions: a fluid and a structure solver, coupled", "undex");
     Request r;
     r.command_line = undex::command_line(argc, argv);

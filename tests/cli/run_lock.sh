@@ -8,7 +8,7 @@
 #     removed when that run ends;
 #  3. a lock file written by a process that has exited is stale as well (a coupled run takes it with --force);
 #  4. `undex run CASE | head -1` completes the run (a single-field run and a coupled one): exit status 0,
-#     status `complete`, the logs written to the end;
+#     status `complete`, the logs written to the end; so does a run with stdout and stderr closed;
 #  5. a run refused after taking the lock (a bad region) leaves neither the lock nor the directory it made.
 # Every run here takes at most a few seconds (short end times).
 set -u
@@ -115,6 +115,13 @@ check "undex run (single field) | head -1: exit ${rc[0]}, status complete" \
 rc=("${PIPESTATUS[@]}")
 check "undex run (coupled) | head -1: exit ${rc[0]}, both complete, logs to the end" \
     '[ ${rc[0]} -eq 0 ] && [ "$(status_of "$dir/pipe2/fluid.h5")" = complete ] && [ "$(status_of "$dir/pipe2/solid.h5")" = complete ] && grep -q "undex-fluid: done" "$dir/pipe2/fluid.log" && grep -q "undex-rigid: done" "$dir/pipe2/solid.log"'
+
+# Closed stdout and stderr: no file opened later (the lock, whose descriptor the solvers inherit) takes their
+# place.
+"$undex" run "$cases/taylor_plate_1d.case" --set end_time=1e-4 -o "$dir/closed" >&- 2>&-
+rc=$?
+check "undex run (coupled) >&- 2>&-: exit $rc, both complete, logs to the end" \
+    '[ $rc -eq 0 ] && [ "$(status_of "$dir/closed/fluid.h5")" = complete ] && [ "$(status_of "$dir/closed/solid.h5")" = complete ] && grep -q "undex-rigid: done" "$dir/closed/solid.log"'
 
 # 5. A case refused after the lock was taken leaves nothing behind.
 "$bin/undex-fluid" "$cases/sod_1d.case" --set regions[1].rho=-1 -o "$dir/new/out" >"$dir/bad.out" 2>&1
