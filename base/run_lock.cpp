@@ -156,6 +156,7 @@ void RunLock::take(const std::filesystem::path& dir, std::string command, bool f
                            ")");
     }
     own_ = true;
+    if (!text.empty()) taken_over_ = holder_of(text);
     for (char& ch : command)
         if (ch == '\n') ch = ' ';
     const std::string mine = "pid=" + std::to_string(getpid()) + "\nhost=" + host_name() +

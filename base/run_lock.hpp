@@ -8,9 +8,10 @@
 //
 // Liveness is the flock, not the pid: a lock file nobody holds (its run was killed with SIGKILL, crashed, or
 // its machine stopped) is stale. A stale lock is refused too, saying so (the files of that run may be
-// incomplete); --force takes it over. A live lock is never taken over. A later --resume of the same directory
-// will take a stale lock as its own the way --force does (the run it continues is the one that left it), and
-// refuse a live one like any run.
+// incomplete); --force takes it over. A live lock is never taken over. Liveness across hosts is as good as
+// the file system's flock (local file systems, NFS with lock support); the host in the file says where.
+// A later --resume of the same directory will take a stale lock as its own the way --force does (the run it
+// continues is the one that left it), and refuse a live one like any run.
 //
 // Sharing: `undex run` passes its lock to the solvers it starts as an inherited file descriptor named in the
 // environment (UNDEX_RUN_LOCK_FD). A solver whose inherited descriptor is the lock file of its output
@@ -45,6 +46,8 @@ class RunLock {
     // The processes started from here on (fork and exec) share the lock (UNDEX_RUN_LOCK_FD).
     void share_with_children() const;
     const std::string& path() const { return path_; }
+    // The run whose stale lock --force took over ("pid N on host H since T (COMMAND)"), or "".
+    const std::string& taken_over() const { return taken_over_; }
 
   private:
     void take(const std::filesystem::path& dir, std::string command, bool force);
@@ -53,6 +56,7 @@ class RunLock {
     int fd_ = -1;
     bool own_ = false;                 // taken here (false: shared from the launcher that started us)
     std::vector<std::string> created_; // directories made for the lock, the deepest first
+    std::string taken_over_;
 };
 
 // argv as one line for the lock file and messages (arguments with blanks or quotes in single quotes).

@@ -94,6 +94,8 @@ int dispatch(const SolverCommands& c, Request& r) {
     const auto cf = CaseFile::load(r.case_path, r.overrides());
     validate_plan(cf); // the output directory is usable before it is locked (base/run_lock.hpp)
     const RunLock lock(plan(cf).directory, r.command, r.force);
+    if (!lock.taken_over().empty())
+        std::cerr << c.name << ": --force: took over the stale lock of " << lock.taken_over() << "\n";
     return c.run(cf, r.couple);
 }
 

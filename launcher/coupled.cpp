@@ -172,6 +172,8 @@ int run_coupled(const CoupledRun& r) {
     catch_stop_signals(); // first: from here on a stop signal lets undex remove its lock
     const RunLock lock(r.directory, r.lock_command, r.force);
     lock.share_with_children();
+    if (!lock.taken_over().empty())
+        std::cout << "undex: --force: took over the stale lock of " << lock.taken_over() << std::endl;
     const std::string endpoint = endpoint_of(r);
     Child children[2];
     std::cout << "undex: " << r.case_path << ": coupled run over " << endpoint << "; logs " << r.directory

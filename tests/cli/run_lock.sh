@@ -89,8 +89,8 @@ check "stale lock refused without --force (exit $stale), the message says stale,
 check "the refused run touched nothing" '[ "$before" = "$(sums "$two")" ]'
 "$undex" run "$cases/sod_1d.case" -o "$two" --force >"$dir/force.out" 2>&1
 rc=$?
-check "--force takes the stale lock over: exit $rc, status complete, lock removed" \
-    '[ $rc -eq 0 ] && [ "$(status_of "$two/fluid.h5")" = complete ] && [ ! -e "$two/undex.lock" ]'
+check "--force takes the stale lock over, saying whose: exit $rc, status complete, lock removed" \
+    '[ $rc -eq 0 ] && grep -q "took over the stale lock of pid $victim on host" "$dir/force.out" && [ "$(status_of "$two/fluid.h5")" = complete ] && [ ! -e "$two/undex.lock" ]'
 
 # 3. A lock file left by a process that has exited, on a coupled run.
 three=$dir/three
