@@ -6,10 +6,10 @@ namespace undex {
 // Exit statuses of the solver executables.
 enum ExitStatus : int {
     exit_complete = 0,
-    exit_bad_case = 1,      // or another error before the run started
+    exit_bad_case = 1, // or another error before the run started (an output directory locked by another run)
     exit_method_failed = 2, // a state the method cannot hold, or numerics.max_steps reached
     exit_coupling_failed = 3,
-    exit_stopped = 4, // SIGINT or SIGTERM
+    exit_stopped = 4, // SIGINT, SIGTERM or SIGHUP (also: the undex that started the solver died)
     exit_usage = 64,
 };
 

@@ -51,7 +51,7 @@ void step_to_end(Run& run, const RunPlan& plan, std::ostream& log, Clock::time_p
     auto last_progress = start;
     for (;;) {
         if (run.owns_clock() && clock.done(run.time())) break;
-        if (stop_requested()) throw RunFailure(exit_stopped, "stopped by a signal (SIGINT or SIGTERM)");
+        if (stop_requested()) throw RunFailure(exit_stopped, stop_reason());
         if (run.owns_clock() && run.steps() >= plan.max_steps) // a partner's clock is the partner's to stop
             throw RunFailure(exit_method_failed,
                              "stopped: numerics.max_steps = " + std::to_string(plan.max_steps) +
@@ -89,9 +89,12 @@ int drive(Run& run, const RunPlan& plan, const std::string& name, std::ostream& 
     } catch (const RunFailure& f) {
         why = f.what(), status = f.status;
     } catch (const std::exception& e) {
-        if (!run.coupling_error(e)) throw;
-        why = std::string("coupling: ") + e.what();
+        // A signal that ends a wait of the coupling, or any ZeroMQ call (EINTR), is the stop it asked for.
+        const bool coupling = run.coupling_error(e);
+        if (!coupling && !stop_requested()) throw;
         status = stop_requested() ? exit_stopped : exit_coupling_failed;
+        why =
+            (status == exit_stopped ? stop_reason() + "; " : "") + (coupling ? "coupling: " : "") + e.what();
     }
     if (status != exit_complete) {
         run.fail(why);

@@ -5,7 +5,8 @@
 // One step of a run, in this order (docs/architecture.md):
 //   1. end?      a side that owns the clock stops at end_time; a side that follows its partner's clock stops
 //                when the partner says so (next_step gives nothing)
-//   2. stop?     SIGINT or SIGTERM (base/signals.hpp), or numerics.max_steps reached (by the side that owns
+//   2. stop?     SIGINT, SIGTERM or SIGHUP (base/signals.hpp), or numerics.max_steps reached (by the side
+//   that owns
 //                the clock)
 //   3. next_step the side's largest step, cut to land on the next output time (OutputClock::clip); a
 //                coupled side agrees on it with its partner: Δt = min(Δt_f, Δt_s)

@@ -3,6 +3,8 @@
 
 #include "base/case_file.hpp"
 #include "base/exit_status.hpp"
+#include "base/run_lock.hpp"
+#include "base/run_plan.hpp"
 #include "base/signals.hpp"
 
 #include <CLI/CLI.hpp>
@@ -22,7 +24,8 @@ namespace {
 struct Request {
     std::string case_path, couple, output;
     std::vector<std::string> sets;
-    bool check = false, options = false;
+    bool check = false, options = false, force = false;
+    std::string command; // the whole command line, for the lock file
     SampleRequest sample;
     bool sampling = false;
     std::vector<std::string> overrides() const {
@@ -67,9 +70,12 @@ void describe(CLI::App& app, const SolverCommands& c, Request& r) {
         });
     auto* couple = app.add_option("--couple", r.couple, "couple to the other solver through ENDPOINT")
                        ->type_name("ENDPOINT");
+    auto* force = app.add_flag(
+        "--force", r.force, "take over a stale lock of the output directory (left by a run that was killed)");
     if (c.check)
         app.add_flag("--check", r.check, "check this solver's part of CASE, print a summary, write nothing")
-            ->excludes(couple);
+            ->excludes(couple)
+            ->excludes(force);
     if (c.options)
         app.add_flag("--options", r.options, "list the named choices of a case file")->excludes(case_opt);
     if (c.sample) {
@@ -88,14 +94,21 @@ int dispatch(const SolverCommands& c, Request& r) {
     if (r.case_path.empty()) throw UsageError("CASE is required");
     if (r.check) return c.check(CaseFile::load(r.case_path, r.overrides()));
     install_stop_handler();
-    return c.run(CaseFile::load(r.case_path, r.overrides()), r.couple);
+    const auto cf = CaseFile::load(r.case_path, r.overrides());
+    validate_plan(cf); // the output directory is usable before it is locked (base/run_lock.hpp)
+    const RunLock lock(plan(cf).directory, r.command, r.force);
+    if (!lock.taken_over().empty())
+        std::cerr << c.name << ": --force: took over the stale lock of " << lock.taken_over() << "\n";
+    return c.run(cf, r.couple);
 }
 
 } // namespace
 
 int solver_main(int argc, char** argv, const SolverCommands& c) {
+    protect_standard_streams();
     CLI::App app(c.description, c.name);
     Request r;
+    r.command = command_line(argc, argv);
     r.sample.time = std::numeric_limits<double>::quiet_NaN(); // --time not given
     describe(app, c, r);
     const std::string hint = "run '" + c.name + " --help' for the command line";

@@ -1,12 +1,13 @@
 // The command line shared by the solver executables (undex-fluid, undex-solid, undex-rigid):
-//   NAME CASE [--set key=value]... [-o DIR] [--couple ENDPOINT]   run the case
+//   NAME CASE [--set key=value]... [-o DIR] [--couple ENDPOINT] [--force]   run the case
 //   NAME --check CASE [--set key=value]... [-o DIR]                check the solver's part of the case
 //   NAME --options                                                  list the named choices it accepts
 //   NAME --sample DIR --time T --line "x0,y0 x1,y1" --points N [--fields rho,u,v,p]   (undex-fluid only)
-// -o DIR is the override output.directory=DIR, applied after the --set ones. Every mode has --help. SIGINT
-// and SIGTERM end a run at the next step (install_stop_handler); errors become one line on stderr and the
-// exit status: 1 bad case (or another error), 3 coupling failure, 64 usage (an unknown option names it); the
-// callbacks return the rest.
+// -o DIR is the override output.directory=DIR, applied after the --set ones. Every mode has --help. A run
+// locks its output directory (base/run_lock.hpp; a directory in use, or with a stale lock and no --force, is
+// refused with exit status 1). SIGINT, SIGTERM and SIGHUP end a run at the next step (install_stop_handler);
+// SIGPIPE is ignored. Errors become one line on stderr and the exit status: 1 bad case (or another error),
+// 3 coupling failure, 64 usage (an unknown option names it); the callbacks return the rest.
 #pragma once
 #include <functional>
 #include <stdexcept>

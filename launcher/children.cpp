@@ -2,6 +2,8 @@
 #include "launcher/children.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -85,12 +87,14 @@ int exec(const std::vector<std::string>& args) {
     return 1;
 }
 
-void spawn(Child& c, const std::vector<std::string>& args) {
+void spawn(Child& c, const std::vector<std::string>& args, const std::vector<std::string>& env) {
     int fds[2];
     if (pipe2(fds, O_CLOEXEC) != 0) // not inherited by the other side's process
         throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
-    std::vector<std::string> copy = args;
+    std::vector<std::string> copy = args, vars = env;
     auto argv = c_args(copy);
+    auto envs = c_args(vars);
+    const pid_t parent = getpid();
     const pid_t pid = fork();
     if (pid < 0) {
         close(fds[0]);
@@ -99,6 +103,12 @@ void spawn(Child& c, const std::vector<std::string>& args) {
     }
     if (pid == 0) {
         setpgid(0, 0); // its own process group: stopping it reaches whatever it starts
+        // SIGHUP when undex dies, even by SIGKILL (kept across exec); undex may have died before this line.
+        prctl(PR_SET_PDEATHSIG, SIGHUP);
+        if (getppid() != parent) _exit(128 + SIGHUP);
+        signal(SIGPIPE, SIG_DFL); // undex ignores it; the solvers ignore it themselves
+        for (size_t k = 0; k + 1 < envs.size(); ++k)
+            putenv(envs[k]);
         dup2(fds[1], 1);
         dup2(fds[1], 2);
         close(fds[0]);

@@ -43,8 +43,10 @@ struct Child {
     int status = -1;     // exit code once ended (128 + signal when killed)
     bool ended = false;
 };
-// Starts args as c, in a process group of its own.
-void spawn(Child& c, const std::vector<std::string>& args);
+// Starts args as c, in a process group of its own, with env (NAME=VALUE) added to its environment. The child
+// gets SIGHUP when undex dies (PR_SET_PDEATHSIG; the solvers then stop with their last good state,
+// base/signals.hpp) and SIGPIPE back at its default.
+void spawn(Child& c, const std::vector<std::string>& args, const std::vector<std::string>& env = {});
 // Passes complete lines of c's output to the terminal (prefixed) and to its log; false at end of output.
 bool pump(Child& c);
 // Whether c has ended (waiting for it when block).

@@ -1,6 +1,8 @@
 // A coupled run of undex (launcher/coupled.hpp).
 #include "launcher/coupled.hpp"
 
+#include "base/run_lock.hpp"
+#include "base/signals.hpp"
 #include "coupler/conform.hpp"
 #include "launcher/children.hpp"
 
@@ -20,7 +22,16 @@ namespace undex::launcher {
 
 namespace {
 
-volatile std::sig_atomic_t interrupted = 0; // 1: SIGINT or SIGTERM arrived, 2: passed on to both sides
+volatile std::sig_atomic_t interrupted = 0; // the SIGINT, SIGTERM or SIGHUP that arrived
+
+// SIGINT, SIGTERM or SIGHUP to undex stops both sides (each runs in its own process group).
+void catch_stop_signals() {
+    struct sigaction sa {};
+    sa.sa_handler = [](int sig) { interrupted = sig; };
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+    sigaction(SIGHUP, &sa, nullptr);
+}
 
 // A free tcp port on this host (bound and released; the fluid binds it right after).
 int free_tcp_port() {
@@ -58,24 +69,25 @@ std::vector<std::vector<std::string>> command_lines(const CoupledRun& r, const s
     return {fluid, solid};
 }
 
-// Starts both sides (when the second cannot start, the first is killed) and opens their logs.
+// Starts both sides (when the second cannot start, the first is killed) and opens their logs. Each learns
+// undex's pid and the path of its log (base/signals.hpp).
 void start(Child (&children)[2], const std::vector<std::vector<std::string>>& lines, const std::string& dir) {
     children[0].name = "fluid";
     children[1].name = "solid";
     try {
-        for (int k = 0; k < 2; ++k)
-            spawn(children[k], lines[k]);
+        for (int k = 0; k < 2; ++k) {
+            const auto log =
+                std::filesystem::absolute(std::filesystem::path(dir) / (children[k].name + ".log"));
+            spawn(children[k], lines[k],
+                  {std::string(launcher_pid_env) + "=" + std::to_string(getpid()),
+                   std::string(launcher_log_env) + "=" + log.string()});
+        }
     } catch (...) {
         if (children[0].pid > 0) kill(-children[0].pid, SIGKILL), reap(children[0], true);
         throw;
     }
     for (auto& ch : children) // opened after both started, so that neither inherits the other's log
         ch.log.open(std::filesystem::path(dir) / (ch.name + ".log"));
-    // SIGINT or SIGTERM to undex stops both sides (each runs in its own process group).
-    struct sigaction sa {};
-    sa.sa_handler = [](int) { interrupted = 1; };
-    sigaction(SIGINT, &sa, nullptr);
-    sigaction(SIGTERM, &sa, nullptr);
 }
 
 // Interleaves the output of both sides until both ended; when one side fails, the other gets a grace period
@@ -88,10 +100,12 @@ class Supervisor {
             pass_output();
             for (auto& c : ch_)
                 if (reap(c, false) && c.status != 0 && !any_failed_) failed(0);
-            if (interrupted == 1) {
-                std::cout << "undex: interrupted: stopping both sides" << std::endl;
-                signal_all(SIGTERM);
-                interrupted = 2;
+            if (interrupted != 0 && !passed_on_) {
+                const bool hangup = interrupted == SIGHUP;
+                std::cout << "undex: " << (hangup ? "hangup (SIGHUP)" : "interrupted")
+                          << ": stopping both sides" << std::endl;
+                signal_all(hangup ? SIGHUP : SIGTERM);
+                passed_on_ = true;
                 if (!any_failed_) failed(1);
             }
             stop_the_other();
@@ -147,6 +161,7 @@ class Supervisor {
     Child (&ch_)[2];
     bool open_[2] = {true, true};
     bool any_failed_ = false;
+    bool passed_on_ = false; // the signal undex got went to both sides
     std::chrono::steady_clock::time_point failed_at_{};
     int stopped_ = 0; // 1: SIGTERM sent, 2: SIGKILL sent
 };
@@ -154,8 +169,12 @@ class Supervisor {
 } // namespace
 
 int run_coupled(const CoupledRun& r) {
+    catch_stop_signals(); // first: from here on a stop signal lets undex remove its lock
+    const RunLock lock(r.directory, r.lock_command, r.force);
+    lock.share_with_children();
+    if (!lock.taken_over().empty())
+        std::cout << "undex: --force: took over the stale lock of " << lock.taken_over() << std::endl;
     const std::string endpoint = endpoint_of(r);
-    std::filesystem::create_directories(r.directory);
     Child children[2];
     std::cout << "undex: " << r.case_path << ": coupled run over " << endpoint << "; logs " << r.directory
               << "/fluid.log, " << r.directory << "/solid.log" << std::endl;

@@ -2,10 +2,11 @@
 // of a case, run it and sample their output; undex starts them (both sides of a coupled case) and reads
 // gauge series from HDF5.
 //   undex check CASE [--set key=value]... [-o DIR]   check a case without running it
-//   undex run CASE [--set key=value]... [-o DIR] [--tcp | --endpoint E]
+//   undex run CASE [--set key=value]... [-o DIR] [--tcp | --endpoint E] [--force]
 //                                                    run a case: the solver process a single-field case
 //                                                    needs, or the fluid and structure processes of a coupled
-//                                                    case
+//                                                    case; the output directory is locked for the run
+//                                                    (base/run_lock.hpp: --force takes over a stale lock)
 //   undex sample DIR --time T --line "x0,y0 x1,y1" --points N [--fields rho,u,v,p]   (undex-fluid --sample)
 //   undex gauges DIR [--name NAME]
 //   undex options                                    the named choices of a case file, from each solver
@@ -13,7 +14,9 @@
 // Every command has --help; a command line undex cannot use exits with status 64, naming what is wrong.
 #include "base/case_file.hpp"
 #include "base/exit_status.hpp"
+#include "base/run_lock.hpp"
 #include "base/run_plan.hpp"
+#include "base/signals.hpp"
 #include "base/solver_cli.hpp"
 #include "coupler/conform.hpp"
 #include "launcher/children.hpp"
@@ -84,7 +87,7 @@ int check(const CaseRequest& r) {
     return 0;
 }
 
-int run(const CaseRequest& r, const std::string& endpoint, bool tcp) {
+int run(const CaseRequest& r, const std::string& endpoint, bool tcp, bool force, const std::string& command) {
     // The case is checked first, so that a bad case is reported before any process starts.
     const auto c = undex::CaseFile::load(r.path, r.overrides());
     check_parts(r, c);
@@ -98,14 +101,17 @@ int run(const CaseRequest& r, const std::string& endpoint, bool tcp) {
                        tcp,
                        exe("undex-fluid"),
                        exe(st.has_rigid_plate() ? "undex-rigid" : "undex-solid"),
-                       st.command()};
+                       st.command(),
+                       command,
+                       force};
         if (!st.has_command()) run.command.clear();
         return run_coupled(run);
     }
-    // A single-field case needs only its own process.
+    // A single-field case needs only its own process, which takes undex's place and locks the directory.
     std::vector<std::string> args = {exe(fluid ? "undex-fluid" : "undex-solid"), r.path};
     const auto more = r.solver_args();
     args.insert(args.end(), more.begin(), more.end());
+    if (force) args.push_back("--force");
     return exec(args);
 }
 
@@ -132,7 +138,8 @@ void add_case_options(CLI::App& app, CaseRequest& r) {
 struct Request {
     CaseRequest case_request;
     std::string endpoint;
-    bool tcp = false;
+    bool tcp = false, force = false;
+    std::string command_line;                   // undex's own, for the lock file
     std::string dir, time, line, fields, gauge; // sample, gauges
     int points = 0;
     double timeout = 10;              // conform
@@ -167,6 +174,8 @@ void describe(CLI::App& app, Request& r) {
     run->add_option("--endpoint", r.endpoint, "couple over ENDPOINT (ipc://PATH or tcp://HOST:PORT)")
         ->type_name("ENDPOINT")
         ->excludes(tcp);
+    run->add_flag("--force", r.force,
+                  "take over a stale lock of the output directory (left by a run that was killed)");
     add_sample(app, r);
     auto* gauges = app.add_subcommand("gauges", "print the gauge series of an output as CSV, time first");
     gauges->add_option("DIR", r.dir, "an output directory or its fluid.h5 / solid.h5")->required();
@@ -183,7 +192,7 @@ void describe(CLI::App& app, Request& r) {
 int dispatch(const CLI::App& app, const Request& r) {
     const std::string cmd = app.get_subcommands().front()->get_name();
     if (cmd == "check") return check(r.case_request);
-    if (cmd == "run") return run(r.case_request, r.endpoint, r.tcp);
+    if (cmd == "run") return run(r.case_request, r.endpoint, r.tcp, r.force, r.command_line);
     if (cmd == "sample") {
         std::vector<std::string> args = {
             exe("undex-fluid"),      "--sample", r.dir, "--time", r.time, "--line", r.line, "--points",
@@ -199,8 +208,10 @@ int dispatch(const CLI::App& app, const Request& r) {
 } // namespace
 
 int main(int argc, char** argv) {
+    undex::protect_standard_streams(); // a closed stdout costs no run: the logs and the children go on
     CLI::App app("undex: underwater explosions: a fluid and a structure solver, coupled", "undex");
     Request r;
+    r.command_line = undex::command_line(argc, argv);
     describe(app, r);
     const std::string hint = "run 'undex --help' or 'undex COMMAND --help' for the command line";
     try {

@@ -158,8 +158,9 @@ endpoint = f"ipc://{WORK}/busy.ipc"
 first = subprocess.Popen([os.path.join(BIN, "undex-fluid"), path, "--couple", endpoint], stdout=subprocess.PIPE,
                          stderr=subprocess.STDOUT, text=True)
 time.sleep(1.0)
-r = subprocess.run([os.path.join(BIN, "undex-fluid"), path, "--couple", endpoint], capture_output=True, text=True,
-                   timeout=30)
+# (into another output directory: the first run's is locked)
+r = subprocess.run([os.path.join(BIN, "undex-fluid"), path, "--couple", endpoint, "-o", out + "_second"],
+                   capture_output=True, text=True, timeout=30)
 time.sleep(1.5)  # a probe of the path must not end the first run later either
 alive = first.poll() is None
 first.send_signal(signal.SIGTERM)
