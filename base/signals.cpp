@@ -15,6 +15,8 @@ void install_stop_handler() {
     sa.sa_handler = [](int sig) { stop_signal = sig; };
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
+    signal(SIGXFSZ,
+           SIG_IGN); // a file over RLIMIT_FSIZE: its write fails (EFBIG, named), the run ends cleanly
 }
 
 bool stop_requested() {

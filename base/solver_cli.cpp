@@ -3,6 +3,7 @@
 
 #include "base/case_file.hpp"
 #include "base/exit_status.hpp"
+#include "base/h5.hpp"
 #include "base/signals.hpp"
 
 #include <CLI/CLI.hpp>
@@ -85,7 +86,13 @@ int dispatch(const SolverCommands& c, Request& r) {
     if (r.case_path.empty()) throw UsageError("CASE is required");
     if (r.check) return c.check(CaseFile::load(r.case_path, r.overrides()));
     install_stop_handler();
-    return c.run(CaseFile::load(r.case_path, r.overrides()), r.couple);
+    const CaseFile run_case = CaseFile::load(r.case_path, r.overrides());
+    try {
+        return c.run(run_case, r.couple);
+    } catch (const h5::Error& e) { // an output that cannot be created: the run fails (exit status 2)
+        std::cerr << c.name << ": error: " << e.what() << "\n";
+        return exit_method_failed;
+    }
 }
 
 } // namespace
