@@ -15,8 +15,7 @@ void install_stop_handler() {
     sa.sa_handler = [](int sig) { stop_signal = sig; };
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
-    signal(SIGXFSZ,
-           SIG_IGN); // a file over RLIMIT_FSIZE: its write fails (EFBIG, named), the run ends cleanly
+    signal(SIGXFSZ, SIG_IGN); // past RLIMIT_FSIZE a write fails (EFBIG, named) instead of killing the run
 }
 
 bool stop_requested() {

@@ -5,8 +5,8 @@
 //   NAME --sample DIR --time T --line "x0,y0 x1,y1" --points N [--fields rho,u,v,p]   (undex-fluid only)
 // -o DIR is the override output.directory=DIR, applied after the --set ones. Every mode has --help. SIGINT
 // and SIGTERM end a run at the next step (install_stop_handler); errors become one line on stderr and the
-// exit status: 1 bad case (or another error), 3 coupling failure, 64 usage (an unknown option names it); the
-// callbacks return the rest.
+// exit status: 1 bad case (or another error), 2 an output that cannot be created or written (h5::Error), 3
+// coupling failure, 64 usage (an unknown option names it); the callbacks return the rest.
 #pragma once
 #include <functional>
 #include <stdexcept>

@@ -10,13 +10,14 @@
      relies on the next;
    - a directory under RLIMIT_FSIZE (a file may not grow past the limit: its write fails with EFBIG, "File
      too large"; the solvers ignore SIGXFSZ), which needs no privilege.
-   Each run must exit 2 (a failed output is a failure of the run, docs/protocol.md; the coupled run 2 or 3:
-   the side that fills the disk first exits 2, its partner 3, and undex returns the fluid's status), not 0 and
-   not 139 (a crash closing the file); say "done" nowhere; name in its error line the file, the dataset
-   (fluid and structure runs: the sizes are chosen so that a dataset's write is the first to fail; a failed
-   flush or XDMF write names the file alone) and the cause; leave its .h5 readable by h5py with at least one
-   output (the last good state) and every dataset readable, and the status `failed: ...`; and leave the
-   XDMF file absent or complete: parsable, never empty, naming only outputs the .h5 holds, no .tmp left.
+   Each kind of run is made at several sizes, so that the first write to fail is a dataset's in some and a
+   flush's or the XDMF file's in others. Each run must exit 2 (a failed output is a failure of the run,
+   docs/protocol.md; the coupled run 2 or 3: the side that fills the disk first exits 2, its partner 3, and
+   undex returns the fluid's status), not 0 and not 139 (a crash closing the file); say "done" nowhere;
+   name in its error line the file and the cause (and the dataset when a dataset's write failed: some run
+   of each kind must); leave its .h5 readable by h5py, every dataset readable, the status `failed: ...`
+   (and some run of each kind at least one output: the last good state); and leave the XDMF file absent or
+   complete: parsable, never empty, naming only outputs the .h5 holds, no .tmp left.
 2. A case with a 3 000-point pressure table (a case text of about 170 kB, over HDF5's 64 kB limit of an
    attribute) runs and stores its case text and its status.
 3. A peer's Error message of 200 000 characters: undex-rigid exits 3 and stores the whole message in its
@@ -61,7 +62,9 @@ def h5_findings(path):
     try:
         with h5py.File(path, "r") as f:
             status = text(f["status"])
-            outputs = len(f["fields"]) if "fields" in f else len(f["gauges/plate/t"])  # undex-rigid: rows
+            outputs = len(f["fields"]) if "fields" in f else 0
+            if "gauges/plate/t" in f:  # undex-rigid: the rows of the plate's history
+                outputs = len(f["gauges/plate/t"])
 
             def visit(name, obj):
                 try:
@@ -98,17 +101,23 @@ def xdmf_findings(out):
     return problems
 
 
-# Runs filling the disk: (name, case, overrides, output files, tmpfs KiB, RLIMIT_FSIZE bytes). The sizes let
-# a few outputs through (measured: sod_1d 470 kB in all, sandwich_column_1d 4.3 MB, taylor_plate_1d 360 kB).
+# Runs filling the disk: (name, case, overrides, output files, tmpfs sizes in KiB, RLIMIT_FSIZE limits in
+# bytes). The sizes run from a file that takes its first output only in part to one that takes most of the
+# run (measured: sod_1d 470 kB in all, sandwich_column_1d 4.3 MB, taylor_plate_1d 360 kB), so that the first
+# write to fail is, in one run or another, a dataset's, a flush's (the groups and links of an output) and the
+# XDMF file's.
 RUNS = [
-    ("fluid", "sod_1d.case", ["output.interval=0.01"], ["fluid.h5"], 136, 150_000),
-    ("structure", "sandwich_column_1d.case", [], ["solid.h5"], 1024, 1_000_000),
+    ("fluid", "sod_1d.case", ["output.interval=0.01"], ["fluid.h5"], [12, 24, 48, 96, 136, 200, 300],
+     [10_000, 30_000, 60_000, 150_000, 300_000]),
+    ("structure", "sandwich_column_1d.case", [], ["solid.h5"], [12, 16, 20, 24, 32, 64, 256, 1024],
+     [10_000, 20_000, 30_000, 100_000, 1_000_000]),
     ("coupled", "taylor_plate_1d.case", ["end_time=2e-4", "output.interval=5e-5"], ["fluid.h5", "solid.h5"],
-     250, 200_000),
+     [100, 250], [200_000]),
 ]
 
 
 def full_disk_run(how, name, case, sets, files, out, limit=None):
+    """Checks one run; returns (whether its error line named a dataset, outputs kept in its first file)."""
     args = [os.path.join(BIN, "undex"), "run", os.path.join(CASES, case), "-o", out]
     for s in sets:
         args += ["--set", s]
@@ -124,37 +133,61 @@ def full_disk_run(how, name, case, sets, files, out, limit=None):
     check(r.returncode in ok_status, f"{label}: exit status {' or '.join(map(str, ok_status))} (got {r.returncode})",
           said)
     check(not re.search(r": done:", said), f"{label}: nothing says done", said)
-    h5 = "|".join(re.escape(f) for f in files)
-    pattern = rf"error: {re.escape(out)}/({h5}): /\S+: cannot write the dataset: {cause}"
-    if name == "coupled":  # either side may be the first to meet the full disk
-        pattern = rf"error: {re.escape(out)}/({h5}|fluid\.xmf)(: /\S+)?: cannot [^:]+: {cause}"
-    check(re.search(pattern, said), f"{label}: the error names the file, the dataset and '{cause}'", said)
+    names = "|".join(re.escape(f) for f in files + [f.replace(".h5", ".xmf") for f in files])
+    error = re.search(rf"error: {re.escape(out)}/({names})(: /\S+)?: cannot [^:]+: {cause}", said)
+    check(error, f"{label}: the error names the file and '{cause}'", said)
+    kept = []
     for f in files:
         status, outputs, problems = h5_findings(os.path.join(out, f))
-        check(status.startswith("failed: ") and outputs >= 1 and not problems,
+        kept.append(outputs)
+        check(status.startswith("failed: ") and not problems,
               f"{label}: {f} readable with {outputs} output(s), status failed", f"{status}\n{problems}")
     problems = xdmf_findings(out)
     check(not problems, f"{label}: XDMF absent or complete", "\n".join(problems))
+    return bool(error and error.group(2)), kept[0]
+
+
+def sweep(how, name, case, sets, files, sizes, run):
+    named, kept = False, 0
+    for size in sizes:
+        n, k = run(size)
+        named, kept = named or n, max(kept, k)
+    check(named, f"{how}: {name}: a run names the dataset whose write failed")
+    check(kept >= 1, f"{how}: {name}: a run keeps its last good state ({kept} outputs)")
 
 
 # 1a. A full tmpfs.
 mnt = tempfile.mkdtemp(prefix="undex-full-")
-for name, case, sets, files, kib, _ in RUNS:
+mounted = True
+
+
+def on_tmpfs(name, case, sets, files, kib):
+    global mounted
     m = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={kib}k", "tmpfs", mnt], capture_output=True, text=True)
     if m.returncode != 0:
-        print(f"note: mount refused ({m.stderr.strip()}): the full disk is tested with RLIMIT_FSIZE alone")
-        break
+        mounted = False
+        raise RuntimeError(m.stderr.strip())
     try:
-        full_disk_run("tmpfs", name, case, sets, files, os.path.join(mnt, "out"))
+        return full_disk_run("tmpfs", name, case, sets, files, os.path.join(mnt, "out"))
     finally:
         subprocess.run(["umount", mnt])
+
+
+try:
+    for name, case, sets, files, sizes, _ in RUNS:
+        sweep("tmpfs", name, case, sets, files, sizes, lambda kib: on_tmpfs(name, case, sets, files, kib))
+except RuntimeError as e:
+    print(f"note: mount refused ({e}): the full disk is tested with RLIMIT_FSIZE alone")
 os.rmdir(mnt)
 
 # 1b. RLIMIT_FSIZE.
-for name, case, sets, files, _, limit in RUNS:
-    out = os.path.join(WORK, "fsize", name)
-    shutil.rmtree(out, ignore_errors=True)
-    full_disk_run("RLIMIT_FSIZE", name, case, sets, files, out, limit)
+for name, case, sets, files, _, limits in RUNS:
+    def capped(limit):
+        out = os.path.join(WORK, "fsize", f"{name}-{limit}")
+        shutil.rmtree(out, ignore_errors=True)
+        return full_disk_run("RLIMIT_FSIZE", name, case, sets, files, out, limit)
+
+    sweep("RLIMIT_FSIZE", name, case, sets, files, limits, capped)
 
 # 2. A 3 000-point pressure table on the structure's front face (p falling linearly from 1 MPa to 0 in 2 ms).
 n = 3000
