@@ -21,12 +21,13 @@ Error::Error(const std::string& what) : std::runtime_error(what) {
 namespace {
 
 // Once per process, before any other HDF5 call: no error printing by HDF5 (our messages say it once), and
-// no closing of files by the library at exit: a file whose close failed (a full disk) stays half closed in
-// HDF5 1.10, and closing it again at exit crashes; our files are closed (or given up) before exit.
+// no closing of files by the library at exit. Our files are closed or given up before exit (a file given up
+// after a failed write must not be flushed: OutputFile::fail), and a file whose close failed (a full disk)
+// stays half closed in HDF5 1.10: closing it again at exit crashed (SIGSEGV in H5F__close_cb).
 void init() {
     static const bool done = [] {
-        H5dont_atexit();
-        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+        if (H5dont_atexit() < 0 || H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr) < 0)
+            throw Error("HDF5: cannot turn off its error printing and its closing of files at exit");
         return true;
     }();
     (void)done;
@@ -225,9 +226,10 @@ namespace {
 std::string read_string(hid_t loc, const std::string& what, hid_t obj, hid_t (*get_type)(hid_t),
                         bool attribute) {
     Object type(get_type(obj), H5Tclose, loc, what, "read the type of");
-    if (H5Tget_class(type.id()) != H5T_STRING || H5Tis_variable_str(type.id()) != 0)
-        throw Error(where(loc, what) + ": not a fixed-length string");
-    std::string s(H5Tget_size(type.id()), '\0');
+    const size_t size = H5Tget_size(type.id()); // 0: an error
+    if (H5Tget_class(type.id()) != H5T_STRING || H5Tis_variable_str(type.id()) != 0 || size == 0)
+        throw Error(where(loc, what) + ": cannot read: not a fixed-length string");
+    std::string s(size, '\0');
     Object mem = string_type(loc, what, std::max<size_t>(s.size(), 1));
     check(attribute ? H5Aread(obj, mem.id(), s.data())
                     : H5Dread(obj, mem.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, s.data()),
@@ -294,7 +296,9 @@ Object create_file(const std::string& path) {
         throw Error(path + ": cannot set the file access properties: " + cause());
     const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id());
     if (f < 0) throw Error(path + ": cannot create the output file: " + cause());
-    return {f, H5Fclose, -1, path, ""};
+    Object file(f, H5Fclose, -1, path, "");
+    fapl.close("close the file access properties of");
+    return file;
 }
 } // namespace
 

@@ -29,7 +29,8 @@ template <class T> T check(T status, hid_t loc, const std::string& name, const s
 }
 
 // An identifier (file, group, dataset, ...) closed on destruction; an error there is ignored (it only happens
-// on the way out of an earlier failure). close() closes it now and checks.
+// on the way out of an earlier failure, or for dataspaces and types, which live in memory). What writes to
+// the file (a dataset, an attribute, a group, the file) is closed with close(), which checks.
 class Object {
   public:
     Object() = default;
