@@ -18,8 +18,9 @@ and prints one line per dataset and attribute of fluid.h5 / solid.h5:
 
 Texts that hold the path of the run (the case text names the output directory) are digested after the work
 directory is replaced by a fixed name, the same way whether they are attributes or string datasets (the case
-text and the status were attributes before issue 12: /@case, /@status). Exits 1 when the runs of one case disagree (the outputs do
-not reproduce), so a digest list is only printed when it is worth comparing. Compare two lists with diff.
+text and the status were attributes /@case, /@status before issue 12; they are datasets case, status now:
+rename them to compare older lists). Exits 1 when the runs of one case disagree (the outputs do not
+reproduce), so a digest list is only printed when it is worth comparing. Compare two lists with diff.
 """
 import argparse
 import hashlib
