@@ -53,7 +53,8 @@ herr_t walk(unsigned n, const H5E_error2_t* e, void* data) {
     return 0;
 }
 
-// "FILE: /PATH/NAME" of an object name relative to loc ("FILE" for the file itself).
+// "FILE: /PATH/NAME" of an object name relative to loc ("FILE" for the file itself). For messages only: a
+// name HDF5 cannot give is left out.
 std::string where(hid_t loc, const std::string& name) {
     if (loc < 0) return name;
     std::string file = "(unknown file)", path;
@@ -295,7 +296,12 @@ Object create_file(const std::string& path) {
         H5Pset_fclose_degree(fapl.id(), H5F_CLOSE_STRONG) < 0) // closing the file closes what is open in it
         throw Error(path + ": cannot set the file access properties: " + cause());
     const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id());
-    if (f < 0) throw Error(path + ": cannot create the output file: " + cause());
+    if (f < 0) {
+        const std::string why = cause();
+        std::error_code ignored;
+        std::filesystem::remove(path, ignored); // made, perhaps, without its superblock
+        throw Error(path + ": cannot create the output file: " + why);
+    }
     Object file(f, H5Fclose, -1, path, "");
     fapl.close("close the file access properties of");
     return file;
@@ -314,6 +320,8 @@ OutputFile::OutputFile(const std::string& directory, const std::string& name, co
         flush();
     } catch (const Error&) {
         file_.abandon(); // a close would try again what failed
+        std::error_code ignored;
+        std::filesystem::remove(path_, ignored); // it holds no status, perhaps not even its superblock
         throw;
     }
 }
@@ -391,12 +399,13 @@ void OutputFile::fail(const std::string& why, const std::function<void()>& write
 
 void write_file_atomically(const std::string& path, const std::string& text) {
     const std::string tmp = path + ".tmp";
+    const auto failed = [] { return errno != 0 ? errno : EIO; };
     std::FILE* f = std::fopen(tmp.c_str(), "w");
-    int error = f ? 0 : errno;
+    int error = f ? 0 : failed();
     if (f && (std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fflush(f) != 0))
-        error = errno;
-    if (f && std::fclose(f) != 0 && !error) error = errno;
-    if (!error && std::rename(tmp.c_str(), path.c_str()) != 0) error = errno;
+        error = failed();
+    if (f && std::fclose(f) != 0 && !error) error = failed();
+    if (!error && std::rename(tmp.c_str(), path.c_str()) != 0) error = failed();
     if (error) {
         std::remove(tmp.c_str());
         throw Error(path + ": cannot write: " + std::strerror(error));

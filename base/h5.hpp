@@ -81,7 +81,8 @@ void write_table(hid_t file, const std::string& group, const std::vector<std::st
 
 // The output file of a solver's run, DIRECTORY/NAME: created (replacing an older one, the directory made
 // when missing) without HDF5's file lock, so that Python and ParaView can read what was flushed while the
-// run goes on. It holds the datasets case (the case text) and status ("running" until complete or fail).
+// run goes on. It holds the datasets case (the case text) and status ("running" until complete or fail); a
+// file that cannot take them is removed (Error).
 // Tables and the status are flushed as they are written. complete() or fail() ends it; one still open at
 // destruction (an exception left the run, e.g. an output that could not be created) gets the status
 // "failed: " and the last Error, written in place, and stays as its last flush left it.
