@@ -31,7 +31,6 @@ import subprocess
 import sys
 import tempfile
 import threading
-import time
 import xml.etree.ElementTree as ET
 
 import h5py
@@ -105,14 +104,14 @@ def xdmf_findings(out):
 # bytes). The sizes run from a file that takes its first output only in part to one that takes most of the
 # run (measured: sod_1d 470 kB in all, sandwich_column_1d 4.3 MB, taylor_plate_1d 360 kB), so that the first
 # write to fail is, in one run or another, a dataset's, a flush's (the groups and links of an output) and the
-# XDMF file's.
+# XDMF file's; at 40 KiB the coupled run's fluid fills the disk before undex-rigid can create solid.h5.
 RUNS = [
     ("fluid", "sod_1d.case", ["output.interval=0.01"], ["fluid.h5"], [12, 24, 48, 96, 136, 200, 300],
      [10_000, 30_000, 60_000, 150_000, 300_000]),
     ("structure", "sandwich_column_1d.case", [], ["solid.h5"], [12, 16, 20, 24, 32, 64, 256, 1024],
      [10_000, 20_000, 30_000, 100_000, 1_000_000]),
     ("coupled", "taylor_plate_1d.case", ["end_time=2e-4", "output.interval=5e-5"], ["fluid.h5", "solid.h5"],
-     [100, 250], [200_000]),
+     [40, 100, 250], [200_000]),
 ]
 
 
