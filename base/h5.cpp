@@ -1,54 +1,217 @@
 #include "base/h5.hpp"
 
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <stdexcept>
+
+#include <fcntl.h>
 
 namespace undex::h5 {
 
-void check(herr_t status, const std::string& what) {
-    if (status < 0) throw std::runtime_error("HDF5: cannot " + what);
-}
+namespace {
+std::string last_error; // of this process (a solver writes one output file)
+} // namespace
 
-void write_attr_string(hid_t obj, const char* name, const std::string& value) {
-    if (H5Aexists(obj, name) > 0) H5Adelete(obj, name);
-    hid_t type = H5Tcopy(H5T_C_S1);
-    H5Tset_size(type, value.size() + 1);
-    hid_t space = H5Screate(H5S_SCALAR);
-    hid_t attr = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-    check(H5Awrite(attr, type, value.c_str()), std::string("write attribute ") + name);
-    H5Aclose(attr);
-    H5Sclose(space);
-    H5Tclose(type);
+Error::Error(const std::string& what) : std::runtime_error(what) {
+    last_error = what;
 }
 
 namespace {
-template <class T> void write_scalar(hid_t obj, const char* name, T value, hid_t mem, hid_t file) {
-    if (H5Aexists(obj, name) > 0) H5Adelete(obj, name);
-    hid_t space = H5Screate(H5S_SCALAR);
-    hid_t attr = H5Acreate2(obj, name, file, space, H5P_DEFAULT, H5P_DEFAULT);
-    check(H5Awrite(attr, mem, &value), std::string("write attribute ") + name);
-    H5Aclose(attr);
-    H5Sclose(space);
+
+// Once per process, before any other HDF5 call: no error printing by HDF5 (our messages say it once), and
+// no closing of files by the library at exit. Our files are closed or given up before exit (a file given up
+// after a failed write must not be flushed: OutputFile::fail), and a file whose close failed (a full disk)
+// stays half closed in HDF5 1.10: closing it again at exit crashed (SIGSEGV in H5F__close_cb).
+void init() {
+    static const bool done = [] {
+        if (H5dont_atexit() < 0 || H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr) < 0)
+            throw Error("HDF5: cannot turn off its error printing and its closing of files at exit");
+        return true;
+    }();
+    (void)done;
 }
+
+struct Walk {
+    std::string system;    // the text of errno from a file driver ("No space left on device")
+    std::string innermost; // the description of the innermost error
+    hid_t minor = -1;
+};
+
+herr_t walk(unsigned n, const H5E_error2_t* e, void* data) {
+    auto& w = *static_cast<Walk*>(data);
+    const std::string desc = e->desc ? e->desc : "";
+    if (n == 0) w.innermost = desc, w.minor = e->min_num;
+    // The file drivers (sec2, core, ...) report a failed read or write as "... errno = N, error message =
+    // 'TEXT', ...".
+    const auto k = desc.find("error message = '");
+    if (w.system.empty() && k != std::string::npos) {
+        const auto start = k + std::strlen("error message = '");
+        w.system = desc.substr(start, desc.find('\'', start) - start);
+    }
+    return 0;
+}
+
+// "FILE: /PATH/NAME" of an object name relative to loc ("FILE" for the file itself). For messages only: a
+// name HDF5 cannot give is left out.
+std::string where(hid_t loc, const std::string& name) {
+    if (loc < 0) return name;
+    std::string file = "(unknown file)", path;
+    if (ssize_t n = H5Fget_name(loc, nullptr, 0); n > 0) {
+        file.assign(static_cast<size_t>(n) + 1, '\0');
+        H5Fget_name(loc, file.data(), file.size());
+        file.resize(static_cast<size_t>(n));
+    }
+    if (ssize_t n = H5Iget_name(loc, nullptr, 0); n > 0) {
+        path.assign(static_cast<size_t>(n) + 1, '\0');
+        H5Iget_name(loc, path.data(), path.size());
+        path.resize(static_cast<size_t>(n));
+    }
+    if (path.empty() || path.back() != '/') path += '/';
+    path += name;
+    return path == "/" ? file : file + ": " + path;
+}
+
 } // namespace
 
+std::string cause() {
+    Walk w;
+    H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, walk, &w);
+    if (!w.system.empty()) return w.system;
+    if (!w.innermost.empty()) return w.innermost;
+    char text[256] = "";
+    if (w.minor >= 0 && H5Eget_msg(w.minor, nullptr, text, sizeof text) > 0) return text;
+    return "HDF5 gives no cause";
+}
+
+void fail(hid_t loc, const std::string& name, const std::string& action) {
+    const std::string why = cause(); // first: the calls of where() clear the error stack
+    throw Error(where(loc, name) + ": cannot " + action + ": " + why);
+}
+
+Object::Object(hid_t id, herr_t (*close)(hid_t), hid_t loc, const std::string& name,
+               const std::string& action)
+    : id_(check(id, loc, name, action)), close_(close), loc_(loc), name_(name) {}
+
+Object& Object::operator=(Object&& o) noexcept {
+    std::swap(id_, o.id_);
+    std::swap(close_, o.close_);
+    std::swap(loc_, o.loc_);
+    std::swap(name_, o.name_);
+    return *this;
+}
+
+void Object::abandon() {
+    id_ = -1;
+}
+
+Object::~Object() {
+    if (id_ >= 0) close_(id_);
+}
+
+void Object::close(const std::string& action) {
+    const hid_t id = id_;
+    id_ = -1; // never closed twice, even when this fails
+    if (id >= 0 && close_(id) < 0) fail(loc_, name_, action);
+}
+
+Object create_group(hid_t loc, const std::string& name) {
+    return {H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, loc, name,
+            "create the group"};
+}
+
+Object open_group(hid_t loc, const std::string& name) {
+    return {H5Gopen2(loc, name.c_str(), H5P_DEFAULT), H5Gclose, loc, name, "open the group"};
+}
+
+namespace {
+
+Object scalar_space(hid_t loc, const std::string& name) {
+    return {H5Screate(H5S_SCALAR), H5Sclose, loc, name, "make a dataspace for"};
+}
+
+// A fixed-length string type of size bytes, null-terminated or padded with nulls.
+Object string_type(hid_t loc, const std::string& name, size_t size, H5T_str_t pad = H5T_STR_NULLPAD) {
+    Object t(H5Tcopy(H5T_C_S1), H5Tclose, loc, name, "make a string type for");
+    check(H5Tset_size(t.id(), size), loc, name, "size the string type of");
+    check(H5Tset_strpad(t.id(), pad), loc, name, "pad the string type of");
+    return t;
+}
+
+void delete_attr(hid_t obj, const char* name) {
+    const std::string what = std::string("@") + name;
+    if (check(H5Aexists(obj, name), obj, what, "look up the attribute") > 0)
+        check(H5Adelete(obj, name), obj, what, "delete the attribute");
+}
+
+void delete_link(hid_t loc, const char* name) {
+    if (check(H5Lexists(loc, name, H5P_DEFAULT), loc, name, "look up") > 0)
+        check(H5Ldelete(loc, name, H5P_DEFAULT), loc, name, "delete");
+}
+
+void write_attr(hid_t obj, const char* name, hid_t file_type, hid_t mem_type, const void* value) {
+    const std::string what = std::string("@") + name;
+    delete_attr(obj, name);
+    Object space = scalar_space(obj, what);
+    Object attr(H5Acreate2(obj, name, file_type, space.id(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose, obj, what,
+                "create the attribute");
+    check(H5Awrite(attr.id(), mem_type, value), obj, what, "write the attribute");
+    attr.close("write the attribute");
+}
+
+} // namespace
+
+void write_attr_string(hid_t obj, const char* name, const std::string& value) {
+    Object type = string_type(obj, std::string("@") + name, value.size() + 1, H5T_STR_NULLTERM);
+    write_attr(obj, name, type.id(), type.id(), value.c_str());
+}
+
 void write_attr_double(hid_t obj, const char* name, double value) {
-    write_scalar(obj, name, value, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE);
+    write_attr(obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
 }
 void write_attr_long(hid_t obj, const char* name, long value) {
-    write_scalar(obj, name, value, H5T_NATIVE_LONG, H5T_STD_I64LE);
+    write_attr(obj, name, H5T_STD_I64LE, H5T_NATIVE_LONG, &value);
+}
+
+void write_text(hid_t loc, const char* name, const std::string& text, size_t capacity) {
+    if (check(H5Lexists(loc, name, H5P_DEFAULT), loc, name, "look up") > 0) {
+        Object set(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose, loc, name, "open the dataset");
+        Object type(H5Dget_type(set.id()), H5Tclose, loc, name, "read the type of");
+        const size_t size = H5Tget_size(type.id());
+        if (size == 0) fail(loc, name, "read the size of");
+        if (text.size() <= size) { // in place
+            std::string padded = text;
+            padded.resize(size, '\0');
+            check(H5Dwrite(set.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()), loc, name,
+                  "write the dataset");
+            set.close("write the dataset"); // the text goes to the file here
+            return;
+        }
+        set.close();
+        check(H5Ldelete(loc, name, H5P_DEFAULT), loc, name, "delete");
+    }
+    std::string padded = text;
+    padded.resize(std::max<size_t>({text.size(), capacity, 1}), '\0');
+    Object type = string_type(loc, name, padded.size());
+    Object space = scalar_space(loc, name);
+    Object set(H5Dcreate2(loc, name, type.id(), space.id(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+               loc, name, "create the dataset");
+    check(H5Dwrite(set.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()), loc, name,
+          "write the dataset");
+    set.close("write the dataset");
 }
 
 namespace {
 void write_typed(hid_t loc, const char* name, const std::vector<hsize_t>& dims, hid_t file_type,
                  hid_t mem_type, const void* data) {
-    if (H5Lexists(loc, name, H5P_DEFAULT) > 0) H5Ldelete(loc, name, H5P_DEFAULT);
-    hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
-    hid_t set = H5Dcreate2(loc, name, file_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (set < 0) throw std::runtime_error(std::string("HDF5: cannot create dataset ") + name);
-    check(H5Dwrite(set, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), std::string("write ") + name);
-    H5Dclose(set);
-    H5Sclose(space);
+    delete_link(loc, name);
+    Object space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, loc, name,
+                 "make a dataspace for");
+    Object set(H5Dcreate2(loc, name, file_type, space.id(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+               loc, name, "create the dataset");
+    check(H5Dwrite(set.id(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), loc, name, "write the dataset");
+    set.close("write the dataset"); // a small dataset's data goes to the file here
 }
 } // namespace
 
@@ -59,95 +222,201 @@ void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims
     write_typed(loc, name, dims, H5T_STD_I32LE, H5T_NATIVE_INT, data);
 }
 
-std::string read_attr_string(hid_t obj, const char* name) {
-    hid_t attr = H5Aopen(obj, name, H5P_DEFAULT);
-    if (attr < 0) throw std::runtime_error(std::string("missing attribute ") + name);
-    hid_t type = H5Aget_type(attr);
-    std::string s(H5Tget_size(type), '\0');
-    hid_t mem = H5Tcopy(H5T_C_S1);
-    H5Tset_size(mem, s.size());
-    H5Aread(attr, mem, s.data());
-    H5Tclose(mem);
-    H5Tclose(type);
-    H5Aclose(attr);
-    s.resize(s.find('\0') == std::string::npos ? s.size() : s.find('\0'));
+namespace {
+// A string of the fixed-length string type of an attribute or dataset, cut at its first null.
+std::string read_string(hid_t loc, const std::string& what, hid_t obj, hid_t (*get_type)(hid_t),
+                        bool attribute) {
+    Object type(get_type(obj), H5Tclose, loc, what, "read the type of");
+    const size_t size = H5Tget_size(type.id()); // 0: an error
+    if (H5Tget_class(type.id()) != H5T_STRING || H5Tis_variable_str(type.id()) != 0 || size == 0)
+        throw Error(where(loc, what) + ": cannot read: not a fixed-length string");
+    std::string s(size, '\0');
+    Object mem = string_type(loc, what, std::max<size_t>(s.size(), 1));
+    check(attribute ? H5Aread(obj, mem.id(), s.data())
+                    : H5Dread(obj, mem.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, s.data()),
+          loc, what, "read");
+    s.resize(std::min(s.size(), s.find('\0')));
     return s;
+}
+} // namespace
+
+std::string read_attr_string(hid_t obj, const char* name) {
+    const std::string what = std::string("@") + name;
+    Object attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose, obj, what, "open the attribute");
+    return read_string(obj, what, attr.id(), H5Aget_type, true);
 }
 
 double read_attr_double(hid_t obj, const char* name) {
+    const std::string what = std::string("@") + name;
     double v = 0;
-    hid_t attr = H5Aopen(obj, name, H5P_DEFAULT);
-    if (attr < 0) throw std::runtime_error(std::string("missing attribute ") + name);
-    H5Aread(attr, H5T_NATIVE_DOUBLE, &v);
-    H5Aclose(attr);
+    Object attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose, obj, what, "open the attribute");
+    check(H5Aread(attr.id(), H5T_NATIVE_DOUBLE, &v), obj, what, "read the attribute");
     return v;
 }
 
+std::string read_text(hid_t loc, const char* name) {
+    Object set(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose, loc, name, "open the dataset");
+    return read_string(loc, name, set.id(), H5Dget_type, false);
+}
+
 std::vector<double> read_dataset(hid_t loc, const std::string& name) {
-    hid_t set = H5Dopen2(loc, name.c_str(), H5P_DEFAULT);
-    if (set < 0) throw std::runtime_error("missing dataset " + name);
-    hid_t space = H5Dget_space(set);
-    const hssize_t n = H5Sget_simple_extent_npoints(space);
+    Object set(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose, loc, name, "open the dataset");
+    Object space(H5Dget_space(set.id()), H5Sclose, loc, name, "read the shape of");
+    const hssize_t n = check(H5Sget_simple_extent_npoints(space.id()), loc, name, "read the shape of");
     std::vector<double> v(static_cast<size_t>(n));
-    H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-    H5Sclose(space);
-    H5Dclose(set);
+    check(H5Dread(set.id(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), loc, name,
+          "read the dataset");
     return v;
 }
 
 void write_table(hid_t file, const std::string& group, const std::vector<std::string>& columns,
                  const std::vector<double>& rows) {
-    if (H5Lexists(file, group.c_str(), H5P_DEFAULT) <= 0)
-        H5Gclose(H5Gcreate2(file, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-    const hid_t g = H5Gopen2(file, group.c_str(), H5P_DEFAULT);
-    if (g < 0) throw std::runtime_error("cannot open group " + group);
+    if (check(H5Lexists(file, group.c_str(), H5P_DEFAULT), file, group, "look up") <= 0)
+        create_group(file, group).close();
+    Object g = open_group(file, group);
     const size_t width = columns.size(), n = rows.size() / width;
     std::vector<double> column(n);
     for (size_t k = 0; k < width; ++k) {
         for (size_t r = 0; r < n; ++r)
             column[r] = rows[r * width + k];
-        write_dataset(g, columns[k].c_str(), {n}, column.data());
+        write_dataset(g.id(), columns[k].c_str(), {n}, column.data());
     }
-    H5Gclose(g);
+    g.close();
 }
+
+namespace {
+// Room for the status texts of a run ("running", "complete", "failed: " and a message naming a file, an
+// object and a cause): a later status that fits is written in place, so that even a full disk takes it.
+constexpr size_t status_capacity = 4096;
+
+Object create_file(const std::string& path) {
+    init();
+    Object fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, -1, path, "make the file access properties of");
+    if (H5Pset_file_locking(fapl.id(), false, true) < 0 ||
+        H5Pset_fclose_degree(fapl.id(), H5F_CLOSE_STRONG) < 0) // closing the file closes what is open in it
+        throw Error(path + ": cannot set the file access properties: " + cause());
+    const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id());
+    if (f < 0) {
+        const std::string why = cause();
+        std::error_code ignored;
+        std::filesystem::remove(path, ignored); // made, perhaps, without its superblock
+        throw Error(path + ": cannot create the output file: " + why);
+    }
+    Object file(f, H5Fclose, -1, path, "");
+    fapl.close("close the file access properties of");
+    return file;
+}
+} // namespace
 
 OutputFile::OutputFile(const std::string& directory, const std::string& name, const std::string& case_text)
     : directory_(directory), path_((std::filesystem::path(directory) / name).string()) {
-    std::filesystem::create_directories(directory);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-    const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-    H5Pset_file_locking(fapl, false, true);
-    file_ = H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
-    H5Pclose(fapl);
-    if (file_ < 0) throw std::runtime_error(path_ + ": cannot create the output file");
-    write_attr_string(file_, "case", case_text);
-    write_attr_string(file_, "status", "running");
+    std::error_code e;
+    std::filesystem::create_directories(directory, e);
+    if (e) throw Error(directory + ": cannot create the output directory: " + e.message());
+    file_ = create_file(path_);
+    try {
+        write_text(file_.id(), "case", case_text);
+        write_text(file_.id(), "status", "running", status_capacity);
+        flush();
+    } catch (const Error&) {
+        file_.abandon(); // a close would try again what failed
+        std::error_code ignored;
+        std::filesystem::remove(path_, ignored); // it holds no status, perhaps not even its superblock
+        throw;
+    }
 }
 
 OutputFile::~OutputFile() {
-    if (file_ >= 0) H5Fclose(file_);
+    if (file_.id() < 0) return; // completed, failed or given up
+    try {
+        write_text(file_.id(), "status",
+                   "failed: " + (last_error.empty()
+                                     ? std::string("the run stopped before its output was complete (the "
+                                                   "solver's log has the cause)")
+                                     : last_error),
+                   status_capacity);
+    } catch (const Error&) { // the message of the first error is out already
+    }
+    file_.abandon();
 }
 
 void OutputFile::flush() const {
-    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+    // A flush writes groups and attributes, some in place (the links of a group) and some into new space
+    // below the file's end of allocation (EOA). That space is reserved first: a full disk fails here, before
+    // the flush, instead of in its middle with the links written and what they point at not (an unreadable
+    // file).
+    const std::string what = "flush the file (the groups and attributes written since the last flush)";
+    haddr_t eoa = 0;
+    void* handle = nullptr;
+    check(H5Fget_eoa(file_.id(), &eoa), file_.id(), "", what);
+    check(H5Fget_vfd_handle(file_.id(), H5P_DEFAULT, &handle), file_.id(), "", what);
+    if (eoa > reserved_) {
+        const int e = posix_fallocate(*static_cast<int*>(handle), static_cast<off_t>(reserved_),
+                                      static_cast<off_t>(eoa - reserved_));
+        if (e != 0 && e != EOPNOTSUPP && e != ENOSYS) // (a file system that cannot reserve flushes anyway)
+            throw Error(path_ + ": cannot " + what + ": " + std::strerror(e));
+        reserved_ = eoa;
+    }
+    check(H5Fflush(file_.id(), H5F_SCOPE_GLOBAL), file_.id(), "", what);
 }
 
 void OutputFile::set_status(const std::string& status) const {
-    write_attr_string(file_, "status", status);
+    write_text(file_.id(), "status", status, status_capacity);
     flush();
 }
 
 void OutputFile::write_table(const std::string& group, const std::vector<std::string>& columns,
                              const std::vector<double>& rows) const {
-    h5::write_table(file_, group, columns, rows);
+    h5::write_table(file_.id(), group, columns, rows);
     flush();
 }
 
-hid_t open_read(const std::string& path) {
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-    hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (f < 0) throw std::runtime_error(path + ": cannot open (not an HDF5 output of undex?)");
-    return f;
+void OutputFile::complete() {
+    set_status("complete");
+    file_.close("close the file");
+}
+
+void OutputFile::fail(const std::string& why, const std::function<void()>& write_state) {
+    try {
+        write_state();
+    } catch (const Error& e) {
+        // The file holds what HDF5 could not write (e.g. a full disk): a flush or a close would write the
+        // groups and links that point at it over the last good state. So only the status is written, in place
+        // (its space is in the file already), and the file is given up unflushed: it stays as the last flush
+        // left it.
+        std::string also;
+        try {
+            write_text(file_.id(), "status", "failed: " + why, status_capacity);
+        } catch (const Error& s) {
+            also = "; nor the status: " + std::string(s.what());
+        }
+        file_.abandon();
+        throw Error(e.what() + also);
+    }
+    set_status("failed: " + why);
+    file_.close("close the file");
+}
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+    const std::string tmp = path + ".tmp";
+    const auto failed = [] { return errno != 0 ? errno : EIO; };
+    std::FILE* f = std::fopen(tmp.c_str(), "w");
+    int error = f ? 0 : failed();
+    if (f && (std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fflush(f) != 0))
+        error = failed();
+    if (f && std::fclose(f) != 0 && !error) error = failed();
+    if (!error && std::rename(tmp.c_str(), path.c_str()) != 0) error = failed();
+    if (error) {
+        std::remove(tmp.c_str());
+        throw Error(path + ": cannot write: " + std::strerror(error));
+    }
+}
+
+Object open_read(const std::string& path) {
+    init();
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (f < 0) throw Error(path + ": cannot open (not an HDF5 output of undex?): " + cause());
+    return {f, H5Fclose, -1, path, ""};
 }
 
 std::string output_file(const std::string& dir) {
@@ -158,41 +427,50 @@ std::string output_file(const std::string& dir) {
     return (p / "fluid.h5").string();
 }
 
-StoredRun read_run(const std::string& h5_path) {
-    hid_t f = open_read(h5_path);
-    StoredRun r;
-    r.case_text = read_attr_string(f, "case");
-    hid_t fields = H5Gopen2(f, "fields", H5P_DEFAULT);
+namespace {
+// The names of the links of a group, in name order.
+std::vector<std::string> links(hid_t file, const std::string& group) {
+    Object g = open_group(file, group);
     H5G_info_t info;
-    H5Gget_info(fields, &info);
+    check(H5Gget_info(g.id(), &info), file, group, "read the group");
+    std::vector<std::string> names;
     for (hsize_t k = 0; k < info.nlinks; ++k) {
-        char name[64];
-        H5Lget_name_by_idx(fields, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
-        hid_t g = H5Gopen2(fields, name, H5P_DEFAULT);
-        r.groups.push_back(std::string("fields/") + name);
-        r.times.push_back(read_attr_double(g, "time"));
-        H5Gclose(g);
+        const ssize_t n =
+            check(H5Lget_name_by_idx(g.id(), ".", H5_INDEX_NAME, H5_ITER_INC, k, nullptr, 0, H5P_DEFAULT),
+                  file, group, "read the names in");
+        std::string name(static_cast<size_t>(n) + 1, '\0');
+        check(H5Lget_name_by_idx(g.id(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name.data(), name.size(),
+                                 H5P_DEFAULT),
+              file, group, "read the names in");
+        name.resize(static_cast<size_t>(n));
+        names.push_back(name);
     }
-    H5Gclose(fields);
-    hid_t gauges = H5Gopen2(f, "gauges", H5P_DEFAULT);
-    H5Gget_info(gauges, &info);
-    for (hsize_t k = 0; k < info.nlinks; ++k) {
-        char name[256];
-        H5Lget_name_by_idx(gauges, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
-        r.gauge_names.push_back(name);
+    return names;
+}
+} // namespace
+
+StoredRun read_run(const std::string& h5_path) {
+    Object f = open_read(h5_path);
+    StoredRun r;
+    // Files written before the case text was a dataset hold it as an attribute.
+    r.case_text = check(H5Lexists(f.id(), "case", H5P_DEFAULT), f.id(), "case", "look up") > 0
+                      ? read_text(f.id(), "case")
+                      : read_attr_string(f.id(), "case");
+    for (const auto& name : links(f.id(), "fields")) {
+        r.groups.push_back("fields/" + name);
+        Object g = open_group(f.id(), r.groups.back());
+        r.times.push_back(read_attr_double(g.id(), "time"));
     }
-    H5Gclose(gauges);
-    H5Fclose(f);
+    r.gauge_names = links(f.id(), "gauges");
     return r;
 }
 
 std::vector<std::vector<double>> read_gauge(const std::string& h5_path, const std::string& name,
                                             const std::vector<std::string>& columns) {
-    hid_t f = open_read(h5_path);
+    Object f = open_read(h5_path);
     std::vector<std::vector<double>> cols;
     for (const auto& c : columns)
-        cols.push_back(read_dataset(f, "gauges/" + name + "/" + c));
-    H5Fclose(f);
+        cols.push_back(read_dataset(f.id(), "gauges/" + name + "/" + c));
     return cols;
 }
 

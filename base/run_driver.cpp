@@ -1,5 +1,6 @@
 #include "base/run_driver.hpp"
 
+#include "base/h5.hpp"
 #include "base/signals.hpp"
 
 #include <chrono>
@@ -86,8 +87,11 @@ int drive(Run& run, const RunPlan& plan, const std::string& name, std::ostream& 
     int status = exit_complete;
     try {
         step_to_end(run, plan, log, start);
+        run.complete();
     } catch (const RunFailure& f) {
         why = f.what(), status = f.status;
+    } catch (const h5::Error& e) { // an output that cannot be written ends the run (docs/protocol.md)
+        why = e.what(), status = exit_method_failed;
     } catch (const std::exception& e) {
         // A signal that ends a wait of the coupling, or any ZeroMQ call (EINTR), is the stop it asked for.
         const bool coupling = run.coupling_error(e);
@@ -97,13 +101,17 @@ int drive(Run& run, const RunPlan& plan, const std::string& name, std::ostream& 
             (status == exit_stopped ? stop_reason() + "; " : "") + (coupling ? "coupling: " : "") + e.what();
     }
     if (status != exit_complete) {
-        run.fail(why);
-        log << name << ": error: " << why << "\n"
-            << name << ": the last good state (t = " << format("%.9g", run.time()) << " s, step "
-            << run.steps() << ") is in " << run.output_path() << std::endl;
+        log << name << ": error: " << why << std::endl;
+        try {
+            run.fail(why);
+            log << name << ": the last good state (t = " << format("%.9g", run.time()) << " s, step "
+                << run.steps() << ") is in " << run.output_path() << std::endl;
+        } catch (const std::exception& e) { // e.g. the disk is still full: what was flushed before stays
+            log << name << ": error: the last good state could not be written: " << e.what() << "\n"
+                << name << ": " << run.output_path() << " holds the outputs written before" << std::endl;
+        }
         return status;
     }
-    run.complete();
     const double wall = seconds_since(start);
     log << name << ": done: " << run.steps() << " steps, wall " << format("%.3f", wall) << " s"
         << run.summary(wall) << std::endl;

@@ -69,10 +69,11 @@ class Run {
     virtual void write_output() = 0;
     // After the last step: tells the partner (if any) that the run is over.
     virtual void finish() {}
-    // Writes what is left (histories) and marks the output complete.
+    // Writes what is left (histories), marks the output complete and closes it. An output that cannot be
+    // written (h5::Error, here or in write_output) is a failure of the run: exit status 2.
     virtual void complete() = 0;
     // After a failure: tells the partner why (best effort), writes the last good state and marks the output
-    // failed with the message.
+    // failed with the message; throws when that cannot be written (the driver says so).
     virtual void fail(const std::string& why) = 0;
     virtual std::string output_path() const = 0;
     // Appended to the progress line and to the closing line.

@@ -52,6 +52,7 @@ void install_stop_handler() {
     sigaction(SIGTERM, &sa, nullptr);
     sigaction(SIGHUP, &sa, nullptr);
     if (launcher_ended()) raise(SIGHUP); // it died before the handler was in place
+    signal(SIGXFSZ, SIG_IGN); // past RLIMIT_FSIZE a write fails (EFBIG, named) instead of killing the run
 }
 
 bool stop_requested() {

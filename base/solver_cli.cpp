@@ -5,6 +5,7 @@
 #include "base/exit_status.hpp"
 #include "base/run_lock.hpp"
 #include "base/run_plan.hpp"
+#include "base/h5.hpp"
 #include "base/signals.hpp"
 
 #include <CLI/CLI.hpp>
@@ -99,7 +100,12 @@ int dispatch(const SolverCommands& c, Request& r) {
     const RunLock lock(plan(cf).directory, r.command, r.force);
     if (!lock.taken_over().empty())
         std::cerr << c.name << ": --force: took over the stale lock of " << lock.taken_over() << "\n";
-    return c.run(cf, r.couple);
+    try {
+        return c.run(cf, r.couple);
+    } catch (const h5::Error& e) { // an output that cannot be created: the run fails (exit status 2)
+        std::cerr << c.name << ": error: " << e.what() << "\n";
+        return exit_method_failed;
+    }
 }
 
 } // namespace

@@ -6,8 +6,9 @@
 // -o DIR is the override output.directory=DIR, applied after the --set ones. Every mode has --help. A run
 // locks its output directory (base/run_lock.hpp; a directory in use, or with a stale lock and no --force, is
 // refused with exit status 1). SIGINT, SIGTERM and SIGHUP end a run at the next step (install_stop_handler);
-// SIGPIPE is ignored. Errors become one line on stderr and the exit status: 1 bad case (or another error),
-// 3 coupling failure, 64 usage (an unknown option names it); the callbacks return the rest.
+// SIGPIPE and SIGXFSZ are ignored. Errors become one line on stderr and the exit status: 1 bad case (or
+// another error), 2 an output that cannot be created or written (h5::Error), 3 coupling failure, 64 usage (an
+// unknown option names it); the callbacks return the rest.
 #pragma once
 #include <functional>
 #include <stdexcept>

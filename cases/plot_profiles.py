@@ -25,10 +25,14 @@ import numpy as np  # noqa: E402
 
 
 def text_attr(obj, key, default=""):
-    """A string attribute (stored as bytes or str), or default when missing."""
-    if key not in obj.attrs:
+    """A text of the file: a string dataset (case, status), or an attribute in files written before they were
+    datasets; default when missing."""
+    if key in obj and isinstance(obj[key], h5py.Dataset):
+        value = obj[key][()]
+    elif key in obj.attrs:
+        value = obj.attrs[key]
+    else:
         return default
-    value = obj.attrs[key]
     if isinstance(value, np.ndarray):
         value = value.item() if value.size == 1 else value.tolist()
     if isinstance(value, bytes):

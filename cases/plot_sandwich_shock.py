@@ -32,14 +32,12 @@ import numpy as np
 def core_strain(run_dir):
     """Mean plastic compression strain of the middle layer at the last output, and the run's status."""
     with h5py.File(os.path.join(run_dir, "solid.h5"), "r") as f:
-        status = f.attrs["status"]
-        status = status.decode() if isinstance(status, bytes) else str(status)
+        status = f["status"][()].decode()
         layers = (f.attrs["layers"].decode() if isinstance(f.attrs["layers"], bytes) else str(f.attrs["layers"])).split(",")
         last = f["fields"][sorted(f["fields"])[-1]]
         eps = last["plastic_strain_xx"][:]
         xe = f["element_x"][:]
-        case = f.attrs["case"]
-        case = case.decode() if isinstance(case, bytes) else str(case)
+        case = f["case"][()].decode()
     # Layer thicknesses from the case text, in order; the core is layer 1 of 3.
     thick = [float(t) for t in re.findall(r"layers\s*\{[^}]*thickness:\s*([0-9.eE+-]+)", case)]
     if len(thick) != 3 or len(layers) != 3:

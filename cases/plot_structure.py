@@ -49,8 +49,7 @@ def main():
         for x in ax[1:]:
             if x.get_legend_handles_labels()[0]:
                 x.legend(fontsize=8)
-        status = f.attrs["status"]
-        status = status.decode() if isinstance(status, bytes) else str(status)
+        status = f["status"][()].decode()
         fig.suptitle(os.path.basename(os.path.normpath(a.outdir)) + ", status " + status)
     out = a.output or os.path.join(a.outdir, "structure.png")
     fig.tight_layout()

@@ -6,7 +6,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -33,7 +32,7 @@ Output::Output(const std::string& directory, const std::string& case_text, const
     write_attr<double>(file_.id(), "y_min", m.y_min);
     write_attr<double>(file_.id(), "y_max", m.y_max);
     for (const char* g : {"fields", "gauges"})
-        H5Gclose(H5Gcreate2(file_.id(), g, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+        create_group(file_.id(), g).close();
     std::vector<double> x(m.nx);
     for (int i = 0; i < m.nx; ++i)
         x[i] = m.xc(i);
@@ -49,9 +48,9 @@ Output::Output(const std::string& directory, const std::string& case_text, const
 
 void Output::write_fields(const FluidSolver& solver, bool last_good) {
     char name[32];
-    std::snprintf(name, sizeof name, "fields/%06zu", snapshots_.size());
-    hid_t g = H5Gcreate2(file_.id(), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (g < 0) throw std::runtime_error(file_.path() + ": cannot create group " + name);
+    std::snprintf(name, sizeof name, "fields/%06d", count_++); // a number per try: a failed one is not reused
+    Object group = create_group(file_.id(), name);
+    const hid_t g = group.id();
     write_attr<double>(g, "time", solver.time());
     write_attr<long>(g, "step", solver.steps());
     write_attr<long>(g, "last_good", last_good ? 1 : 0);
@@ -75,11 +74,10 @@ void Output::write_fields(const FluidSolver& solver, bool last_good) {
     const auto c = solver.coefficients();
     const hsize_t per_cell = static_cast<hsize_t>(solver.variables() * solver.basis_functions());
     write_dataset(g, "coefficients", {hsize_t(n), per_cell}, c.data());
-    H5Gclose(g);
-    snapshots_.push_back({name, solver.time()});
-    write_gauges();
+    group.close();
+    write_gauges();                              // flushes the file
+    snapshots_.push_back({name, solver.time()}); // fluid.xmf shows what the file holds
     write_xdmf();
-    file_.flush();
 }
 
 void Output::record_gauges(const FluidSolver& solver) {
@@ -93,9 +91,10 @@ void Output::record_gauges(const FluidSolver& solver) {
 void Output::write_gauges() {
     for (size_t k = 0; k < gauges_.size(); ++k) {
         const std::string group = "gauges/" + gauges_[k].name;
-        if (H5Lexists(file_.id(), group.c_str(), H5P_DEFAULT) <= 0)
-            H5Gclose(H5Gcreate2(file_.id(), group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-        hid_t g = H5Gopen2(file_.id(), group.c_str(), H5P_DEFAULT);
+        if (check(H5Lexists(file_.id(), group.c_str(), H5P_DEFAULT), file_.id(), group, "look up") <= 0)
+            create_group(file_.id(), group).close();
+        Object gauge = open_group(file_.id(), group);
+        const hid_t g = gauge.id();
         write_attr<double>(g, "x", gauges_[k].x);
         write_attr<double>(g, "y", gauges_[k].y);
         const auto& s = series_[k];
@@ -107,7 +106,7 @@ void Output::write_gauges() {
                 column[r] = s[r * 5 + col];
             write_dataset(g, names[col], {hsize_t(rows)}, column.data());
         }
-        H5Gclose(g);
+        gauge.close();
     }
     file_.flush();
 }
@@ -117,8 +116,12 @@ void Output::write_table(const std::string& group, const std::vector<std::string
     file_.write_table(group, columns, data);
 }
 
-void Output::set_status(const std::string& status) {
-    file_.set_status(status);
+void Output::complete() {
+    file_.complete();
+}
+
+void Output::fail(const std::string& why, const std::function<void()>& write_state) {
+    file_.fail(why, write_state);
 }
 
 void Output::write_xdmf() const {
@@ -148,26 +151,18 @@ void Output::write_xdmf() const {
         x << "</Grid>\n";
     }
     x << "</Grid>\n</Domain>\n</Xdmf>\n";
-    const auto path = std::filesystem::path(file_.directory()) / "fluid.xmf";
-    const auto tmp = std::filesystem::path(file_.directory()) / "fluid.xmf.tmp";
-    std::ofstream(tmp) << x.str();
-    std::filesystem::rename(tmp, path);
+    write_file_atomically((std::filesystem::path(file_.directory()) / "fluid.xmf").string(), x.str());
 }
 
 std::vector<double> read_coefficients(const std::string& h5_path, const std::string& group) {
-    hid_t f = open_read(h5_path);
-    auto c = read_dataset(f, group + "/coefficients");
-    H5Fclose(f);
-    return c;
+    return read_dataset(open_read(h5_path).id(), group + "/coefficients");
 }
 
 std::vector<double> read_level_set(const std::string& h5_path, const std::string& group) {
-    hid_t f = open_read(h5_path);
+    const Object f = open_read(h5_path);
     const std::string name = group + "/phi";
-    std::vector<double> phi;
-    if (H5Lexists(f, name.c_str(), H5P_DEFAULT) > 0) phi = read_dataset(f, name);
-    H5Fclose(f);
-    return phi;
+    if (check(H5Lexists(f.id(), name.c_str(), H5P_DEFAULT), f.id(), name, "look up") <= 0) return {};
+    return read_dataset(f.id(), name);
 }
 
 } // namespace undex::fluid

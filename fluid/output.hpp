@@ -1,17 +1,21 @@
 // HDF5 output of a fluid run with an XDMF sidecar for ParaView. Layout of <dir>/fluid.h5:
-//   attributes  case (text of the case after overrides), dim, nx, ny, degree, variables, basis_functions,
-//               x_min, x_max, y_min, y_max, status ("running", "complete" or "failed: <message>")
+//   datasets    case (text of the case after overrides), status ("running", "complete" or "failed:
+//               <message>"): scalar fixed-length strings, null-padded (base/h5.hpp)
+//   attributes  dim, nx, ny, degree, variables, basis_functions, x_min, x_max, y_min, y_max
 //   /fields/NNNNNN   attributes time, step, last_good (1 for the state written after a failure);
 //                    rho, u, v, p [, void_fraction] [, phi]: cell averages (phi: level set of two fluids),
 //                    shape (ny, nx) in 2D, (nx) in 1D; coefficients: modal DG coefficients, shape (cells,
 //                    variables·basis_functions)
 //   /gauges/NAME     t, rho, u, v, p: time series at the gauge point
-// The file is flushed after every write, so a run that stops leaves every completed output readable.
+// The file is flushed after every write, so a run that stops leaves every completed output readable;
+// fluid.xmf lists the outputs flushed and is replaced whole (h5::write_file_atomically). A write that fails
+// throws h5::Error naming the file, the object and the cause.
 #pragma once
 #include "base/h5.hpp"
 #include "base/run_plan.hpp"
 #include "fluid/solver.hpp"
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -29,7 +33,10 @@ class Output {
     void write_fields(const FluidSolver& solver, bool last_good = false);
     void record_gauges(const FluidSolver& solver);
     void write_gauges();
-    void set_status(const std::string& status);
+    // Status "complete", the file closed.
+    void complete();
+    // h5::OutputFile::fail: the last good state (write_state), status "failed: WHY", the file closed.
+    void fail(const std::string& why, const std::function<void()>& write_state);
     // A table as one dataset per column in group (created on first use), rows interleaved in data.
     void write_table(const std::string& group, const std::vector<std::string>& columns,
                      const std::vector<double>& data);
@@ -45,6 +52,7 @@ class Output {
         double time;
     };
     std::vector<Snapshot> snapshots_;
+    int count_ = 0; // field outputs tried
     int dim_ = 1, nx_ = 0, ny_ = 1;
     double x_min_ = 0, y_min_ = 0, dx_ = 1, dy_ = 1;
     bool cavitation_ = false, level_set_ = false;

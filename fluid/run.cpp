@@ -105,14 +105,15 @@ class FluidRun : public Run {
     void complete() override {
         out_.write_gauges();
         write_history();
-        out_.set_status("complete");
+        out_.complete();
     }
     void fail(const std::string& why) override {
         if (link_) (*link_)->fail(why); // best effort: the peer learns the cause
-        out_.write_fields(*solver_, true);
-        write_history();
-        out_.write_gauges();
-        out_.set_status("failed: " + why);
+        out_.fail(why, [&] {
+            out_.write_fields(*solver_, true);
+            write_history();
+            out_.write_gauges();
+        });
     }
     std::string output_path() const override { return out_.path(); }
     std::string summary(double wall) const override {

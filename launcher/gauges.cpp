@@ -18,11 +18,8 @@ namespace {
 std::vector<std::string> columns_of(const std::string& h5) {
     if (std::filesystem::path(h5).filename() != "solid.h5") return {"t", "rho", "u", "v", "p"};
     std::vector<std::string> columns;
-    hid_t f = h5::open_read(h5);
-    hid_t g = H5Gopen2(f, "gauges", H5P_DEFAULT);
-    std::stringstream list(h5::read_attr_string(g, "columns"));
-    H5Gclose(g);
-    H5Fclose(f);
+    const h5::Object f = h5::open_read(h5);
+    std::stringstream list(h5::read_attr_string(h5::open_group(f.id(), "gauges").id(), "columns"));
     for (std::string c; std::getline(list, c, ',');)
         columns.push_back(c);
     return columns;

@@ -4,8 +4,9 @@
 //     m du/dt = p_I − p_back − k x − c du/dt,   x the displacement along the normal into the plate,
 // central differences with the interface condition of physics.md §5 solved together with the plate's
 // equation of motion (interface_node.hpp); the dashpot uses the velocity of the last half step.
-// Output <dir>/solid.h5: attributes case, status; /gauges/plate with t, u, v, p_I (columns attribute of
-// /gauges), so `undex gauges DIR/solid.h5` prints it; /coupling with t, dt, p_I, u_I of every step.
+// Output <dir>/solid.h5: datasets case, status (as in fluid.h5); /gauges/plate with t, u, v, p_I (columns
+// attribute of /gauges), so `undex gauges DIR/solid.h5` prints it; /coupling with t, dt, p_I, u_I of every
+// step.
 #include "solid/rigid.hpp"
 
 #include "base/case_file.hpp"
@@ -27,9 +28,9 @@ namespace {
 class RigidOutput {
   public:
     RigidOutput(const std::string& dir, const std::string& case_text) : file_(dir, "solid.h5", case_text) {
-        hid_t g = H5Gcreate2(file_.id(), "gauges", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-        h5::write_attr_string(g, "columns", "t,u,v,p_I");
-        H5Gclose(g);
+        h5::Object g = h5::create_group(file_.id(), "gauges");
+        h5::write_attr_string(g.id(), "columns", "t,u,v,p_I");
+        g.close();
         file_.flush();
     }
     std::vector<double> plate, coupling; // rows t, u, v, p_I and t, dt, p_I, u_I
@@ -37,7 +38,10 @@ class RigidOutput {
         h5::write_table(file_.id(), "gauges/plate", {"t", "u", "v", "p_I"}, plate);
         file_.write_table("coupling", {"t", "dt", "p_I", "u_I"}, coupling);
     }
-    void set_status(const std::string& s) { file_.set_status(s); }
+    void complete() { file_.complete(); }
+    void fail(const std::string& why) {
+        file_.fail(why, [&] { write(); });
+    }
     const std::string& path() const { return file_.path(); }
 
   private:
@@ -77,12 +81,11 @@ class RigidRun : public Run {
     void write_output() override { out_.write(); }
     void complete() override {
         out_.write();
-        out_.set_status("complete");
+        out_.complete();
     }
     void fail(const std::string& why) override {
         link_->fail(why); // best effort: the peer learns the cause
-        out_.write();
-        out_.set_status("failed: " + why);
+        out_.fail(why);
     }
     std::string output_path() const override { return out_.path(); }
     std::string summary(double) const override { return " (" + link_->stop_reason() + ")"; }

@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #ifdef _OPENMP
@@ -41,11 +40,11 @@ class StructureOutput {
         h5::write_attr_string(file_.id(), "layers", join(layers));
         for (const Field& f : s.mesh_fields())
             write_field(file_.id(), f);
-        H5Gclose(H5Gcreate2(file_.id(), "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-        H5Gclose(H5Gcreate2(file_.id(), "energies", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-        hid_t g = H5Gcreate2(file_.id(), "gauges", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-        h5::write_attr_string(g, "columns", join(gauge_columns()));
-        H5Gclose(g);
+        h5::create_group(file_.id(), "fields").close();
+        h5::create_group(file_.id(), "energies").close();
+        h5::Object g = h5::create_group(file_.id(), "gauges");
+        h5::write_attr_string(g.id(), "columns", join(gauge_columns()));
+        g.close();
         file_.flush();
     }
 
@@ -65,17 +64,17 @@ class StructureOutput {
     void write_fields(bool last_good = false) {
         char name[32];
         std::snprintf(name, sizeof name, "fields/%06d", count_++);
-        hid_t g = H5Gcreate2(file_.id(), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-        if (g < 0) throw std::runtime_error(file_.path() + ": cannot create group " + name);
+        h5::Object group = h5::create_group(file_.id(), name);
+        const hid_t g = group.id();
         h5::write_attr<double>(g, "time", s_.time());
         h5::write_attr<long>(g, "step", s_.steps());
         h5::write_attr<long>(g, "last_good", last_good ? 1 : 0);
         const auto fields = s_.state_fields();
         for (const Field& f : fields)
             write_field(g, f);
-        H5Gclose(g);
-        snapshots_.push_back({name, s_.time()});
-        write_tables();
+        group.close();
+        write_tables();                          // flushes the file
+        snapshots_.push_back({name, s_.time()}); // solid.xmf shows what the file holds
         if (s_.dimension() == 2) write_xdmf(fields);
     }
     void write_tables() {
@@ -86,6 +85,7 @@ class StructureOutput {
             h5::write_table(file_.id(), "gauges/" + gauge.name, gauge_columns(), gauge.series);
         file_.flush();
     }
+    h5::OutputFile& file() { return file_; }
     const h5::OutputFile& file() const { return file_; }
 
   private:
@@ -154,10 +154,7 @@ class StructureOutput {
             x << "</Attribute>\n</Grid>\n";
         }
         x << "</Grid>\n</Domain>\n</Xdmf>\n";
-        const auto path = std::filesystem::path(file_.directory()) / "solid.xmf";
-        const auto tmp = std::filesystem::path(file_.directory()) / "solid.xmf.tmp";
-        std::ofstream(tmp) << x.str();
-        std::filesystem::rename(tmp, path);
+        h5::write_file_atomically((std::filesystem::path(file_.directory()) / "solid.xmf").string(), x.str());
     }
 };
 
@@ -234,13 +231,14 @@ class StructureRun : public Run {
     void complete() override {
         out_.write_tables();
         write_history();
-        out_.file().set_status("complete");
+        out_.file().complete();
     }
     void fail(const std::string& why) override {
         if (link_) link_->fail(why); // best effort: the peer learns the cause
-        out_.write_fields(true);
-        write_history();
-        out_.file().set_status("failed: " + why);
+        out_.file().fail(why, [&] {
+            out_.write_fields(true);
+            write_history();
+        });
     }
     std::string output_path() const override { return out_.file().path(); }
     std::string progress() const override {

@@ -10,8 +10,9 @@ class CaseFile;
 namespace undex::solid {
 
 // Output <dir>/solid.h5 (and, for plates, <dir>/solid.xmf for ParaView):
-//   attributes  case (text after overrides), dimension (1 or 2), nodes, elements, layers (material names,
-//               comma-separated), status ("running", "complete", "failed: ...")
+//   datasets    case (text after overrides), status ("running", "complete", "failed: ..."): scalar
+//               fixed-length strings, null-padded (base/h5.hpp)
+//   attributes  dimension (1 or 2), nodes, elements, layers (material names, comma-separated)
 //   1D: x (node positions), element_x (element centres), in the reference configuration
 //       /fields/NNNNNN  attributes time, step, last_good; node fields u, v, a; element fields stress_xx,
 //                       strain_xx, plastic_strain_xx, peeq, peeq_rate

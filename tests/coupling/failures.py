@@ -37,11 +37,10 @@ def check(ok, what, detail=""):
 
 
 def status_of(h5):
-    """The status attribute of an output file, which must open (the last complete output stays readable)."""
+    """The status of an output file, which must open (the last complete output stays readable)."""
     try:
         with h5py.File(h5, "r") as f:
-            s = f.attrs["status"]
-            return s.decode() if isinstance(s, bytes) else str(s)
+            return f["status"][()].decode()
     except Exception as e:  # noqa: BLE001 - any failure to read is the finding
         return f"unreadable: {e}"
 
