@@ -6,6 +6,7 @@
 // wrong-version message) throws CouplingError naming the peer, the step and the cause.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -22,7 +23,8 @@ struct CouplingError : std::runtime_error {
 struct Options {
     std::string endpoint;   // ipc://PATH or tcp://HOST:PORT (tcp://HOST:* on the fluid side: any port)
     int timeout_ms = 30000; // longest wait for the peer's next message during the run
-    int handshake_timeout_ms = 300000; // longest wait for the handshake (the peer may still be setting up)
+    int handshake_timeout_ms = 300000;    // longest wait for the handshake (the peer may still be setting up)
+    std::function<bool()> stop_requested; // when given and true, a wait ends at once (SIGINT, SIGTERM)
 };
 
 // The interface nodes, sent once by the structure: reference positions, unit normals pointing from the fluid
@@ -88,7 +90,7 @@ class FluidParticipant {
     Options options_;
     Interface interface_;
     std::int64_t step_ = 0;
-    double dt_s_ = 0;
+    double dt_s_ = 0, end_time_ = 0;
 };
 
 // The structure side.
@@ -114,6 +116,7 @@ class StructureParticipant {
     Options options_;
     size_t nodes_ = 0;
     std::int64_t step_ = 0;
+    double end_time_ = 0, time_ = 0; // from the Welcome; the sum of the Δt granted
 };
 
 } // namespace undex::coupling
