@@ -90,6 +90,12 @@ void Channel::set_timeout(int timeout_ms) {
 }
 
 Channel::~Channel() {
+    // What is still queued waits up to the linger time for a peer to take it; with no peer connected (none
+    // came, or it is gone) nothing can leave, and the process ends at once.
+    try {
+        if (peer_gone() || peers_.empty()) socket_.set(zmq::sockopt::linger, 0);
+    } catch (const zmq::error_t&) {
+    }
     socket_.close();
     std::error_code ignored;
     if (!ipc_path_.empty()) std::filesystem::remove(ipc_path_, ignored);

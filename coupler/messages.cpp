@@ -1,5 +1,6 @@
 #include "coupler/messages.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -17,11 +18,11 @@ template <class R> std::vector<double> to_vector(const R& r) {
     throw CouplingError(peer + " sent " + what + " at step " + std::to_string(step) + ": " + why);
 }
 
+// The shortest text that reads back as v (so 5e-324, not 0).
 std::string number(double v) {
-    std::ostringstream s;
-    s.precision(17);
-    s << v;
-    return s.str();
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
 }
 
 // A value in [lo, hi] (finite), or refused naming the field.
@@ -227,6 +228,10 @@ Grant check_grant(const wire::Grant& g, std::size_t nodes, double dt_s, double o
         refuse(peer, "Grant.time = " + number(g.time()) + " s", step,
                "must equal this side's time " + number(own_time) + " s (within " + number(tol) +
                    " s) and lie below end_time = " + number(end_time) + " s");
+    if (!(g.time() + g.dt() <= end_time + tol))
+        refuse(peer, "Grant.dt = " + number(g.dt()) + " s", step,
+               "the step from t = " + number(g.time()) + " s would end after end_time = " + number(end_time) +
+                   " s");
     check_range(g.p_floor(), -pressure, pressure, peer, "Grant.p_floor", step, "Pa");
     Grant r;
     r.dt = g.dt(), r.time = g.time(), r.p_floor = g.p_floor(), r.output = g.output();
