@@ -116,8 +116,8 @@ Envelope decode(const void* data, std::size_t size, const std::string& peer, std
                 Envelope::BodyCase expected) {
     const std::string at = " at step " + std::to_string(step);
     Envelope e;
-    if (size > static_cast<std::size_t>(INT32_MAX) || !e.ParseFromArray(data, static_cast<int>(size)) ||
-        !e.IsInitialized())
+    if (size > static_cast<std::size_t>(INT32_MAX) ||
+        !e.ParsePartialFromArray(data, static_cast<int>(size)) || !e.IsInitialized())
         throw CouplingError(peer + " sent a malformed message" + at + " (" + std::to_string(size) +
                             " bytes that are not a coupling Envelope)");
     if (e.protocol() != protocol_version)

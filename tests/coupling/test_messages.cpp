@@ -2,7 +2,9 @@
 // value on both sides — non-finite and out-of-range values, a Δt below the floor, a Grant.time that is not
 // the structure's own, an unbounded or non-UTF-8 text of the peer. Every refusal names the field and the
 // step.
+#include "base/case_file.hpp"
 #include "base/run_driver.hpp"
+#include "base/run_plan.hpp"
 #include "coupler/messages.hpp"
 
 #include <gtest/gtest.h>
@@ -181,4 +183,22 @@ TEST(Messages, DecodeRefusesWhatIsNoEnvelopeOfTheStep) {
                   decode(bytes.data(), bytes.size(), fluid, 3, Envelope::kGrant);
               }).find("sent Grant of step 2 where Grant of step 3 was expected"),
               std::string::npos);
+}
+
+// The run driver's side of the Δt floor (base/run_driver.hpp): a step below 1e-12 × end_time is refused
+// unless it ends on an output time, and plan() merges output times closer than the floor, keeping the end.
+TEST(DtFloor, TheDriverRefusesACollapsedStepAndPlanMergesCloseOutputTimes) {
+    const auto c = undex::CaseFile::from_text("geometry: PLANAR_1D\nend_time: 1e-3\noutput { times: [5e-4, "
+                                              "5.000000000001e-4, 9.99999999999999e-4] }\n");
+    const undex::RunPlan p = undex::plan(c);
+    ASSERT_EQ(p.output_times.size(), 2u); // 5e-4 + 1e-16 and end_time - 1e-18 merged
+    EXPECT_EQ(p.output_times[0], 5.000000000001e-4);
+    EXPECT_EQ(p.output_times[1], 1e-3);
+    const undex::OutputClock clock(p, 0);
+    EXPECT_EQ(clock.dt_floor(), 1e-15);
+    EXPECT_FALSE(clock.admissible({5e-324, false}));
+    EXPECT_FALSE(clock.admissible({9e-16, false}));
+    EXPECT_TRUE(clock.admissible({9e-16, true})); // shortened to land on an output time
+    EXPECT_TRUE(clock.admissible({1e-15, false}));
+    EXPECT_FALSE(clock.admissible({NaN, true}));
 }
