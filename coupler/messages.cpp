@@ -213,13 +213,14 @@ double check_welcome(const wire::Welcome& w, std::string& peer_name) {
 }
 
 Grant check_grant(const wire::Grant& g, std::size_t nodes, double dt_s, double own_time, double end_time,
-                  const std::string& peer, std::int64_t step) {
+                  bool after_short, const std::string& peer, std::int64_t step) {
     using namespace limits;
     const double floor = dt_floor_fraction * end_time;
-    if (!(g.dt() > 0) || !std::isfinite(g.dt()) || (g.dt() < floor && !g.output()))
-        refuse(peer, "a time step Grant.dt = " + number(g.dt()) + " s", step,
-               "must be finite, positive and, unless the step ends on an output time, at least " +
-                   number(floor) + " s (" + number(dt_floor_fraction) + " × end_time)");
+    if (!(g.dt() > 0) || !std::isfinite(g.dt()) || (g.dt() < floor && (!g.output() || after_short)))
+        refuse(
+            peer, "a time step Grant.dt = " + number(g.dt()) + " s", step,
+            "must be finite, positive and at least " + number(floor) + " s (" + number(dt_floor_fraction) +
+                " × end_time), unless the step ends on an output time and the one before was not that short");
     if (g.dt() > dt_s)
         refuse(peer, "Grant.dt = " + number(g.dt()) + " s", step,
                "above the offered dt_s = " + number(dt_s) + " s");

@@ -61,11 +61,12 @@ Answer check_answer(const wire::Answer& a, std::size_t nodes, double p_floor, co
 // Welcome: end_time in range. Returns it; peer_name gets "SOLVER VERSION" quoted.
 double check_welcome(const wire::Welcome& w, std::string& peer_name);
 // Grant of step: 0 < Δt ≤ dt_s (the Δt_s offered), Δt ≥ the floor of end_time unless the step ends on an
-// output time; time equal to own_time (the structure's time, within the tolerance) and below end_time,
-// time + Δt not after end_time;
-// p_floor and per node p_L, u_L, Z_L, geometric in range.
+// output time and the step before (after_short: it was below the floor) did not (output times closer than
+// the floor are merged, so a fluid never needs two such steps in a row); time equal to own_time (the
+// structure's time, within the tolerance) and below end_time, time + Δt not after end_time; p_floor and per
+// node p_L, u_L, Z_L, geometric in range.
 Grant check_grant(const wire::Grant& g, std::size_t nodes, double dt_s, double own_time, double end_time,
-                  const std::string& peer, std::int64_t step);
+                  bool after_short, const std::string& peer, std::int64_t step);
 
 // Either side: the reason of a Stop, quoted.
 std::string check_stop(const wire::Stop& s);

@@ -187,8 +187,9 @@ bool StructureParticipant::exchange(const Offer& offer, Grant& grant) {
         stop_reason_ = check_stop(r.stop());
         return false;
     }
-    grant = check_grant(r.grant(), nodes_, offer.dt, time_, end_time_, channel_->peer(), step_);
+    grant = check_grant(r.grant(), nodes_, offer.dt, time_, end_time_, short_, channel_->peer(), step_);
     time_ += grant.dt;
+    short_ = grant.dt < limits::dt_floor_fraction * end_time_;
     return true;
 }
 

@@ -117,6 +117,7 @@ class StructureParticipant {
     size_t nodes_ = 0;
     std::int64_t step_ = 0;
     double end_time_ = 0, time_ = 0; // from the Welcome; the sum of the Δt granted
+    bool short_ = false;             // the last Δt granted was below the Δt floor (on an output time)
 };
 
 } // namespace undex::coupling

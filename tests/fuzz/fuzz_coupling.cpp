@@ -36,9 +36,9 @@ void check_all(const Envelope& e) {
             refused_or_passed([&] { check_offer(e.offer(), e.offer().x_size(), end_time, peer, step); });
     if (e.has_grant()) {
         const auto& g = e.grant();
-        refused_or_passed([&] { check_grant(g, 1, 1e-6, 0, 1e-3, peer, step); });
+        refused_or_passed([&] { check_grant(g, 1, 1e-6, 0, 1e-3, false, peer, step); });
         refused_or_passed(
-            [&] { check_grant(g, g.p_l_size(), g.dt(), g.time(), 2 * g.time() + g.dt(), peer, step); });
+            [&] { check_grant(g, g.p_l_size(), g.dt(), g.time(), 2 * g.time() + g.dt(), true, peer, step); });
     }
     if (e.has_answer()) {
         refused_or_passed([&] { check_answer(e.answer(), 1, 2338, peer, step); });
