@@ -184,6 +184,11 @@ Envelope Channel::wait(std::int64_t step, Envelope::BodyCase expected) {
     // sends heartbeats is given up on like a silent one (docs/protocol.md §5).
     const auto limit = start + milliseconds(timeout_ms_) * heartbeat_limit;
     bool heartbeats = false;
+    auto heartbeats_only = [&] {
+        return peer_ + " sent only Heartbeats for " + seconds(Clock::now() - start) + " s" + at +
+               " (waiting for " + body_name(expected) + "): heartbeats extend a wait to " +
+               std::to_string(heartbeat_limit) + " × the timeout at most";
+    };
     for (;;) {
         zmq::pollitem_t items[2] = {{socket_.handle(), 0, ZMQ_POLLIN, 0},
                                     {monitor_.handle(), 0, ZMQ_POLLIN, 0}};
@@ -217,10 +222,7 @@ Envelope Channel::wait(std::int64_t step, Envelope::BodyCase expected) {
             } else if ((items[1].revents & ZMQ_POLLIN) || Clock::now() < deadline) {
                 continue;
             } else if (heartbeats && deadline >= limit) {
-                throw CouplingError(peer_ + " sent only Heartbeats for " + seconds(Clock::now() - start) +
-                                    " s" + at + " (waiting for " + body_name(expected) +
-                                    "): heartbeats extend a wait to " + std::to_string(heartbeat_limit) +
-                                    " × the timeout at most");
+                throw CouplingError(heartbeats_only());
             } else {
                 throw CouplingError(peer_ + " did not answer within " + seconds(milliseconds(timeout_ms_)) +
                                     " s" + at + " (waiting for " + body_name(expected) + ")");
@@ -230,6 +232,7 @@ Envelope Channel::wait(std::int64_t step, Envelope::BodyCase expected) {
         if (!socket_.recv(frame, zmq::recv_flags::none)) continue;
         Envelope e = decode(frame.data(), frame.size(), peer_, step, expected);
         if (!e.has_heartbeat()) return e;
+        if (Clock::now() >= limit) throw CouplingError(heartbeats_only()); // even a flood of them
         heartbeats = true;
         deadline = std::min(Clock::now() + milliseconds(timeout_ms_), limit);
     }
