@@ -151,8 +151,8 @@ Interface check_hello(const wire::Hello& h, int dimension, int alpha, std::strin
     i.dimension = h.dimension(), i.alpha = h.alpha();
     i.x = per_node(h.x(), n, -position, position, who, "Hello.x", 0, "m");
     i.y = per_node(h.y(), n, -position, position, who, "Hello.y", 0, "m");
-    i.normal_x = per_node(h.normal_x(), n, -1, 1, who, "Hello.normal_x", 0, "");
-    i.normal_y = per_node(h.normal_y(), n, -1, 1, who, "Hello.normal_y", 0, "");
+    i.normal_x = per_node(h.normal_x(), n, -2, 2, who, "Hello.normal_x", 0, ""); // |n| = 1 below
+    i.normal_y = per_node(h.normal_y(), n, -2, 2, who, "Hello.normal_y", 0, "");
     i.area = per_node(h.area(), n, 0, area, who, "Hello.area", 0, "");
     for (std::size_t k = 0; k < n; ++k) {
         const double len = std::hypot(i.normal_x[k], i.normal_y[k]);

@@ -1,11 +1,14 @@
 // Fuzz target: arbitrary bytes as a coupling frame, through the decoder (coupler/messages.hpp) for every
 // message kind a side waits for, then every check of both sides on whatever body the bytes hold, and the
-// quoting of a peer's text. A bad frame must end in CouplingError (a message naming the peer, the step and
-// the cause); any other exception escaping, a crash, a sanitizer report, a leak or a slow input is a finding.
+// quoting of a peer's text; and the bytes read as the values of well-formed messages of every kind. A bad
+// frame must end in CouplingError (a message naming the peer, the step and the cause); any other exception
+// escaping, a crash, a sanitizer report, a leak or a slow input is a finding.
 #include "coupler/messages.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string>
 
 using namespace undex::coupling;
@@ -48,6 +51,67 @@ void check_all(const Envelope& e) {
     if (e.has_error()) quote(e.error().message());
 }
 
+// The bytes read as the values of messages: doubles, counts and texts, so that the checks also see arbitrary
+// values in well-formed messages (a byte-level mutation seldom keeps protobuf's length prefixes consistent).
+class Values {
+  public:
+    Values(const std::uint8_t* data, std::size_t size) : p_(data), n_(size) {}
+    double real() {
+        double v = 0;
+        if (n_ >= sizeof v) std::memcpy(&v, p_, sizeof v), p_ += sizeof v, n_ -= sizeof v;
+        return v;
+    }
+    int count() { return n_ ? (--n_, *p_++ % 4) : 0; } // 0 to 3 interface nodes
+    std::string text() {
+        const std::size_t k = n_ ? std::min<std::size_t>(*p_ * 16, n_ - 1) : 0;
+        std::string t(reinterpret_cast<const char*>(p_ + (n_ ? 1 : 0)), k);
+        p_ += n_ ? k + 1 : 0, n_ -= n_ ? k + 1 : 0;
+        return t;
+    }
+    template <class R> void fill(R* r, int k) {
+        for (int i = 0; i < k; ++i)
+            r->Add(real());
+    }
+
+  private:
+    const std::uint8_t* p_;
+    std::size_t n_;
+};
+
+void check_values(const std::uint8_t* data, std::size_t size) {
+    Values v(data, size);
+    Envelope e;
+    e.set_protocol(protocol_version);
+    e.set_step(3);
+    auto h = e.mutable_hello(); // each body in turn replaces the last (a oneof)
+    h->set_solver(v.text()), h->set_version(v.text()), h->set_dimension(1), h->set_alpha(0);
+    const int n = v.count();
+    v.fill(h->mutable_x(), n), v.fill(h->mutable_y(), n), v.fill(h->mutable_normal_x(), n);
+    v.fill(h->mutable_normal_y(), n), v.fill(h->mutable_area(), n);
+    check_all(e);
+    auto w = e.mutable_welcome();
+    w->set_solver(v.text()), w->set_version(v.text()), w->set_end_time(v.real());
+    check_all(e);
+    auto o = e.mutable_offer();
+    o->set_dt(v.real()), v.fill(o->mutable_x(), n), v.fill(o->mutable_y(), n),
+        v.fill(o->mutable_velocity(), n);
+    check_all(e);
+    auto g = e.mutable_grant();
+    g->set_dt(v.real()), g->set_time(v.real()), g->set_p_floor(v.real()), g->set_output(v.count() % 2);
+    v.fill(g->mutable_p_l(), n), v.fill(g->mutable_u_l(), n), v.fill(g->mutable_z_l(), n);
+    v.fill(g->mutable_geometric(), n);
+    check_all(e);
+    auto a = e.mutable_answer();
+    v.fill(a->mutable_p_i(), n), v.fill(a->mutable_u_i(), n), v.fill(a->mutable_x(), n),
+        v.fill(a->mutable_y(), n);
+    check_all(e);
+    e.mutable_stop()->set_reason(v.text());
+    check_all(e);
+    e.mutable_error()->set_message(v.text());
+    const std::string bytes = e.SerializeAsString();
+    refused_or_passed([&] { decode(bytes.data(), bytes.size(), peer, 3, Envelope::kGrant); });
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -60,5 +124,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (e.ParsePartialFromArray(data, static_cast<int>(size))) check_all(e);
     quote(std::string(reinterpret_cast<const char*>(data), size));
     quote(std::string(reinterpret_cast<const char*>(data), size), 3);
+    check_values(data, size);
     return 0;
 }
