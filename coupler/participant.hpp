@@ -64,9 +64,11 @@ class FluidParticipant {
     FluidParticipant(const Options& o, const std::string& solver, const std::string& version);
     ~FluidParticipant();
     // Waits for the structure's Hello, checks it (dimension and α must match, one value per node, unit
-    // normals, positive areas) and answers with this side's name and the end time.
+    // normals, positive areas, every value in its range: docs/protocol.md §5) and answers with this side's
+    // name and the end time.
     Interface initialize(int dimension, int alpha, double end_time);
-    // The structure's offer for the next step; false when the structure ended the run (Stop).
+    // The structure's offer for the next step (Δt_s not below the Δt floor, every value in range); false
+    // when the structure ended the run (Stop).
     bool receive_offer(Offer& offer);
     // Grants Δt = min(dt_f, Δt_s of the last offer) with the fluid state g (g.dt is set here) and returns the
     // structure's answer.
@@ -100,7 +102,8 @@ class StructureParticipant {
     ~StructureParticipant();
     // Sends Hello with the interface and waits for the fluid's Welcome; returns the end time of the run.
     double initialize(const Interface& i);
-    // Offers the next step and waits for the grant; false when the fluid ended the run (Stop).
+    // Offers the next step and waits for the grant (checked: Δt, time against this side's, every value in
+    // range); false when the fluid ended the run (Stop).
     bool exchange(const Offer& offer, Grant& grant);
     // Answers the last grant.
     void answer(const Answer& a);
