@@ -29,6 +29,10 @@ Step OutputClock::clip(double t, double dt) const {
     return {dt, false};
 }
 
+bool OutputClock::admissible(const Step& s) const {
+    return s.dt > 0 && std::isfinite(s.dt) && (s.output || s.dt >= dt_floor());
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -59,10 +63,13 @@ void step_to_end(Run& run, const RunPlan& plan, std::ostream& log, Clock::time_p
                                  " reached at t = " + format("%.6g", run.time()) + " s");
         const std::optional<Step> s = run.next_step(clock);
         if (!s) break;
-        if (!(s->dt > 0) || !std::isfinite(s->dt))
+        // A partner's step was checked against the same floor by the coupling library.
+        if (!(run.owns_clock() ? clock.admissible(*s) : s->dt > 0 && std::isfinite(s->dt)))
             throw RunFailure(exit_method_failed,
-                             "time step " + format("%g", s->dt) + " s is not positive and finite at t = " +
-                                 format("%.6g", run.time()) + " s, step " + std::to_string(run.steps()));
+                             "time step " + format("%g", s->dt) + " s at t = " + format("%.6g", run.time()) +
+                                 " s, step " + std::to_string(run.steps()) +
+                                 " is not positive and finite or below the floor " +
+                                 format("%g s (%g × end_time)", clock.dt_floor(), dt_floor_fraction));
         run.advance(*s);
         if (run.steps() % plan.gauge_every == 0 || s->output) run.record();
         if (s->output) {

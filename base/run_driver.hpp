@@ -36,10 +36,20 @@ struct Step {
     bool output = false; // the step ends on an output time
 };
 
+// The Δt floor: a step shorter than dt_floor_fraction · end_time is refused, unless it was shortened to end
+// on an output time (which plan() keeps at least that far apart). A run at 1e12 steps would never end, and
+// far below it t + Δt == t. The coupling library refuses the same floor in a peer's Offer and Grant
+// (coupler/messages.hpp, docs/protocol.md).
+constexpr double dt_floor_fraction = 1e-12;
+
 // The plan's output times after the start of a run.
 class OutputClock {
   public:
     OutputClock(const RunPlan& plan, double start_time);
+    // Whether the driver takes step s: Δt positive and finite, and not below the floor unless s ends on an
+    // output time.
+    bool admissible(const Step& s) const;
+    double dt_floor() const { return dt_floor_fraction * end_time_; }
     // Whether a run at time t has reached the end time.
     bool done(double t) const { return !(t < end_time_ * (1 - 1e-14)); }
     // A step of at most dt from t, shortened to end on the next output time when it reaches it (a dt that is

@@ -1,6 +1,7 @@
 #include "base/run_plan.hpp"
 
 #include "base/case_file.hpp"
+#include "base/run_driver.hpp"
 #include "proto/case.pb.h"
 
 #include <sys/resource.h>
@@ -36,10 +37,13 @@ RunPlan plan(const CaseFile& cf) {
             p.output_times.push_back(t);
     p.output_times.push_back(c.end_time());
     std::sort(p.output_times.begin(), p.output_times.end());
-    p.output_times.erase(
-        std::unique(p.output_times.begin(), p.output_times.end(),
-                    [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::abs(b); }),
-        p.output_times.end());
+    // Output times closer than the Δt floor (base/run_driver.hpp) are one, the later kept (so end_time stays
+    // the last): the step between them would be refused.
+    const double merge = dt_floor_fraction * c.end_time();
+    std::vector<double> kept;
+    for (auto t = p.output_times.rbegin(); t != p.output_times.rend(); ++t)
+        if (kept.empty() || kept.back() - *t > merge) kept.push_back(*t);
+    p.output_times.assign(kept.rbegin(), kept.rend());
     std::string name = c.name();
     if (name.empty()) name = std::filesystem::path(cf.path()).stem().string();
     p.directory = c.output().has_directory() ? c.output().directory() : "out/" + name;

@@ -138,7 +138,8 @@ int solver_main(int argc, char** argv, const SolverCommands& c) {
         for (const auto& f : c.failures)
             if (f.matches(e)) {
                 std::cerr << c.name << ": error: " << f.prefix << e.what() << "\n";
-                return f.status;
+                // A wait of the handshake ended by SIGINT or SIGTERM: stopped, as in the run (drive()).
+                return stop_requested() ? exit_stopped : f.status;
             }
         std::cerr << c.name << ": error: " << e.what() << "\n";
         return exit_bad_case;

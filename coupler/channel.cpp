@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <thread>
@@ -14,6 +15,13 @@
 namespace undex::coupling {
 
 namespace {
+
+// A duration in seconds for messages: 2, 0.5, 20.3.
+template <class D> std::string seconds(D d) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", std::chrono::duration<double>(d).count());
+    return buf;
+}
 
 // Whether a process accepts connections on the Unix socket at path.
 bool ipc_in_use(const std::string& path) {
@@ -44,29 +52,6 @@ std::pair<int, int> read_event(zmq::socket_t& monitor) {
 }
 
 } // namespace
-
-std::string body_name(Envelope::BodyCase b) {
-    switch (b) {
-    case Envelope::kHello:
-        return "Hello";
-    case Envelope::kWelcome:
-        return "Welcome";
-    case Envelope::kOffer:
-        return "Offer";
-    case Envelope::kGrant:
-        return "Grant";
-    case Envelope::kAnswer:
-        return "Answer";
-    case Envelope::kStop:
-        return "Stop";
-    case Envelope::kError:
-        return "Error";
-    case Envelope::kHeartbeat:
-        return "Heartbeat";
-    default:
-        return "an empty message";
-    }
-}
 
 Channel::Channel(const std::string& endpoint, Role role, std::string peer, int timeout_ms)
     : socket_(context_, zmq::socket_type::pair), monitor_(context_, zmq::socket_type::pair),
@@ -105,6 +90,12 @@ void Channel::set_timeout(int timeout_ms) {
 }
 
 Channel::~Channel() {
+    // What is still queued waits up to the linger time for a peer to take it; with no peer connected (none
+    // came, or it is gone) nothing can leave, and the process ends at once.
+    try {
+        if (peer_gone() || peers_.empty()) socket_.set(zmq::sockopt::linger, 0);
+    } catch (const zmq::error_t&) {
+    }
     socket_.close();
     std::error_code ignored;
     if (!ipc_path_.empty()) std::filesystem::remove(ipc_path_, ignored);
@@ -184,23 +175,36 @@ Envelope Channel::receive(std::int64_t step, Envelope::BodyCase expected) {
 }
 
 Envelope Channel::wait(std::int64_t step, Envelope::BodyCase expected) {
+    using std::chrono::milliseconds;
+    using Clock = std::chrono::steady_clock;
     const std::string at = " at step " + std::to_string(step);
-    auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms_);
+    const auto start = Clock::now();
+    auto deadline = start + milliseconds(timeout_ms_);
+    // Heartbeats renew the wait, but never beyond heartbeat_limit timeouts from its start: a peer that only
+    // sends heartbeats is given up on like a silent one (docs/protocol.md §5).
+    const auto limit = start + milliseconds(timeout_ms_) * heartbeat_limit;
+    bool heartbeats = false;
+    auto heartbeats_only = [&] {
+        return peer_ + " sent only Heartbeats for " + seconds(Clock::now() - start) + " s" + at +
+               " (waiting for " + body_name(expected) + "): heartbeats extend a wait to " +
+               std::to_string(heartbeat_limit) + " × the timeout at most";
+    };
     for (;;) {
         zmq::pollitem_t items[2] = {{socket_.handle(), 0, ZMQ_POLLIN, 0},
                                     {monitor_.handle(), 0, ZMQ_POLLIN, 0}};
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-            deadline - std::chrono::steady_clock::now());
+        const auto left = std::chrono::duration_cast<milliseconds>(deadline - Clock::now());
         // Up to 300 µs of polling (yielding the core to any runnable thread) before sleeping: a round trip
         // takes about 100 µs, and waking a sleeping thread on a virtual machine costs tens of microseconds.
         // Measured (tests/bench/coupling_latency.sh, README): 1000-node round trips of 104–132 µs against
         // 145–190 µs without it, and the coupling's share of case 4.3 12.5 % against 18.5 %. A spin without
         // yielding was slower (it starves ZeroMQ's I/O threads on two cores); 1000 µs gained nothing more.
-        const auto spin_until = std::chrono::steady_clock::now() + std::chrono::microseconds(300);
-        auto poll = [&](std::chrono::milliseconds t) { return zmq::poll(items, 2, t); };
-        while (poll(std::chrono::milliseconds(0)) == 0 && std::chrono::steady_clock::now() < spin_until)
+        const auto spin_until = Clock::now() + std::chrono::microseconds(300);
+        auto poll = [&](milliseconds t) { return zmq::poll(items, 2, t); };
+        while (poll(milliseconds(0)) == 0 && Clock::now() < spin_until)
             std::this_thread::yield();
-        if (!(items[0].revents | items[1].revents)) poll(std::max(left, std::chrono::milliseconds(0)));
+        // The sleep is cut in slices so that a stop request that came outside the poll (no EINTR) is seen.
+        if (!(items[0].revents | items[1].revents))
+            poll(std::clamp(left, milliseconds(0), stop_ ? milliseconds(100) : left));
         if (items[1].revents & ZMQ_POLLIN) {
             const auto [event, fd] = read_event(monitor_);
             on_event(event, fd);
@@ -208,39 +212,29 @@ Envelope Channel::wait(std::int64_t step, Envelope::BodyCase expected) {
         if (!(items[0].revents & ZMQ_POLLIN)) {
             if (peer_lost_ && peers_.empty()) {
                 // Whatever the peer sent before it went is read first.
-                zmq::poll(items, 1, std::chrono::milliseconds(200));
+                zmq::poll(items, 1, milliseconds(200));
                 if (!(items[0].revents & ZMQ_POLLIN))
                     throw CouplingError(peer_ + " closed the connection" + at + " (waiting for " +
                                         body_name(expected) + "): its process ended or was killed");
-            } else if (items[1].revents & ZMQ_POLLIN) {
+            } else if (stop_ && stop_()) {
+                throw CouplingError("stopped by a signal (SIGINT or SIGTERM)" + at + " while waiting for " +
+                                    body_name(expected) + " from " + peer_);
+            } else if ((items[1].revents & ZMQ_POLLIN) || Clock::now() < deadline) {
                 continue;
+            } else if (heartbeats && deadline >= limit) {
+                throw CouplingError(heartbeats_only());
             } else {
-                throw CouplingError(peer_ + " did not answer within " +
-                                    std::to_string(timeout_ms_ / 1000.0).substr(0, 5) + " s" + at +
-                                    " (waiting for " + body_name(expected) + ")");
+                throw CouplingError(peer_ + " did not answer within " + seconds(milliseconds(timeout_ms_)) +
+                                    " s" + at + " (waiting for " + body_name(expected) + ")");
             }
         }
         zmq::message_t frame;
         if (!socket_.recv(frame, zmq::recv_flags::none)) continue;
-        Envelope e;
-        if (!e.ParseFromArray(frame.data(), static_cast<int>(frame.size())) || !e.IsInitialized())
-            throw CouplingError(peer_ + " sent a malformed message" + at + " (" +
-                                std::to_string(frame.size()) + " bytes that are not a coupling Envelope)");
-        if (e.protocol() != protocol_version)
-            throw CouplingError(peer_ + " speaks protocol version " + std::to_string(e.protocol()) +
-                                ", this side version " + std::to_string(protocol_version) + at);
-        if (e.has_error())
-            throw CouplingError(peer_ + " stopped with an error" + at + ": " + e.error().message());
-        if (e.has_heartbeat()) {
-            deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms_);
-            continue;
-        }
-        if (e.has_stop()) return e;
-        if (e.body_case() != expected || e.step() != step)
-            throw CouplingError(peer_ + " sent " + body_name(e.body_case()) + " of step " +
-                                std::to_string(e.step()) + " where " + body_name(expected) + " of step " +
-                                std::to_string(step) + " was expected");
-        return e;
+        Envelope e = decode(frame.data(), frame.size(), peer_, step, expected);
+        if (!e.has_heartbeat()) return e;
+        if (Clock::now() >= limit) throw CouplingError(heartbeats_only()); // even a flood of them
+        heartbeats = true;
+        deadline = std::min(Clock::now() + milliseconds(timeout_ms_), limit);
     }
 }
 

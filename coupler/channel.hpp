@@ -1,8 +1,10 @@
 // One end of a coupling connection, internal to the coupler library: a ZeroMQ PAIR socket carrying one
 // serialised coupling Envelope (proto/coupling.proto) per frame, with a receive timeout that heartbeats
-// renew, and a monitor of the connection so that a peer whose process ends is noticed without waiting for the
-// timeout. Every failure throws CouplingError naming the peer, the step and the cause.
+// renew (up to heartbeat_limit timeouts), and a monitor of the connection so that a peer whose process ends
+// is noticed without waiting for the timeout. Every failure throws CouplingError naming the peer, the step
+// and the cause.
 #pragma once
+#include "coupler/messages.hpp"
 #include "coupler/participant.hpp"
 #include "proto/coupling.pb.h"
 
@@ -10,13 +12,17 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace undex::coupling {
 
-using wire::Envelope;
+// The longest wait for one message, in timeouts: each Heartbeat restarts the timeout, but a wait ends after
+// heartbeat_limit timeouts whatever arrives (docs/protocol.md §5: 10 × coupling.timeout, 300 s by default;
+// an output of undex-fluid or undex-solid, preceded by one heartbeat, must take less than one timeout).
+constexpr int heartbeat_limit = 10;
 
 class Channel {
   public:
@@ -35,14 +41,17 @@ class Channel {
     void send_version(Envelope& e, std::uint32_t version);
     void send_raw(const std::string& bytes);
     // Waits for the message of the given step and body (or a Stop), skipping heartbeats, each of which
-    // renews the timeout. Throws on a timeout, a malformed frame, another protocol version, an Error from the
-    // peer, or a message of another step or kind.
+    // renews the timeout up to heartbeat_limit timeouts. Throws on a timeout, a malformed frame, another
+    // protocol version, an Error from the peer, a message of another step or kind (decode), or a stop
+    // request.
     Envelope receive(std::int64_t step, Envelope::BodyCase expected);
     const std::string& peer() const { return peer_; }
     // The endpoint as bound or connected (a tcp://HOST:* binding shows its port here).
     const std::string& endpoint() const { return endpoint_; }
     // The longest wait for a message, and for the peer to take one.
     void set_timeout(int timeout_ms);
+    // A wait ends (CouplingError) once stop() is true: a stop signal, even one not arriving during a poll.
+    void set_stop(std::function<bool()> stop) { stop_ = std::move(stop); }
 
   private:
     zmq::context_t context_;
@@ -56,9 +65,7 @@ class Channel {
     Envelope wait(std::int64_t step, Envelope::BodyCase expected); // receive, with ZeroMQ's errors unwrapped
     std::string endpoint_, peer_, ipc_path_;
     int timeout_ms_;
+    std::function<bool()> stop_;
 };
-
-// The name of a message body, for errors.
-std::string body_name(Envelope::BodyCase b);
 
 } // namespace undex::coupling

@@ -1,6 +1,7 @@
 #include "coupler/participant.hpp"
 
 #include "coupler/channel.hpp"
+#include "coupler/messages.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -14,24 +15,6 @@ template <class R> std::vector<double> to_vector(const R& r) {
 }
 template <class R> void set(R* r, const std::vector<double>& v) {
     r->Assign(v.begin(), v.end());
-}
-
-// Checks that a message field holds one finite value per interface node.
-template <class R>
-void check_values(const R& r, size_t nodes, const std::string& peer, const std::string& what,
-                  std::int64_t step) {
-    std::ostringstream s;
-    if (static_cast<size_t>(r.size()) != nodes) {
-        s << peer << " sent " << r.size() << " value(s) of " << what << " at step " << step << " for "
-          << nodes << " interface node(s)";
-        throw CouplingError(s.str());
-    }
-    for (int k = 0; k < r.size(); ++k)
-        if (!std::isfinite(r.Get(k))) {
-            s << peer << " sent a non-finite " << what << " (" << r.Get(k) << ") at interface node " << k
-              << " at step " << step;
-            throw CouplingError(s.str());
-        }
 }
 
 void check_step(double dt, const std::string& peer, const std::string& what, std::int64_t step) {
@@ -68,7 +51,9 @@ void send_heartbeat(Channel& c, std::int64_t step) {
 FluidParticipant::FluidParticipant(const Options& o, const std::string& solver, const std::string& version)
     : channel_(std::make_unique<Channel>(o.endpoint, Channel::Role::Bind, "the structure solver",
                                          o.handshake_timeout_ms)),
-      solver_(solver), version_(version), options_(o) {}
+      solver_(solver), version_(version), options_(o) {
+    channel_->set_stop(o.stop_requested);
+}
 
 FluidParticipant::~FluidParticipant() = default;
 
@@ -88,38 +73,9 @@ Interface FluidParticipant::initialize(int dimension, int alpha, double end_time
 Interface FluidParticipant::handshake(int dimension, int alpha, double end_time) {
     const Envelope e = channel_->receive(0, Envelope::kHello);
     if (e.has_stop())
-        throw CouplingError("the structure solver stopped before the handshake: " + e.stop().reason());
-    const auto& h = e.hello();
-    peer_ = h.solver() + " " + h.version();
-    const std::string who = "the structure solver (" + peer_ + ")";
-    std::ostringstream s;
-    if (h.dimension() != dimension || h.alpha() != alpha) {
-        s << who << " models a " << h.dimension() << "D structure with alpha = " << h.alpha()
-          << "; the fluid is " << dimension << "D with alpha = " << alpha;
-        throw CouplingError(s.str());
-    }
-    const size_t n = h.x_size();
-    if (n == 0) throw CouplingError(who + " has no interface nodes");
-    check_values(h.x(), n, who, "x", 0);
-    check_values(h.y(), n, who, "y", 0);
-    check_values(h.normal_x(), n, who, "normal_x", 0);
-    check_values(h.normal_y(), n, who, "normal_y", 0);
-    check_values(h.area(), n, who, "area", 0);
-    for (size_t k = 0; k < n; ++k) {
-        const double len = std::hypot(h.normal_x(k), h.normal_y(k));
-        if (std::abs(len - 1) > 1e-9) {
-            s << who << ": the normal of interface node " << k << " has length " << len << ", not 1";
-            throw CouplingError(s.str());
-        }
-        if (!(h.area(k) > 0)) {
-            s << who << ": interface node " << k << " has wetted area " << h.area(k) << " (must be positive)";
-            throw CouplingError(s.str());
-        }
-    }
-    interface_ = {h.dimension(),           h.alpha(),
-                  to_vector(h.x()),        to_vector(h.y()),
-                  to_vector(h.normal_x()), to_vector(h.normal_y()),
-                  to_vector(h.area())};
+        throw CouplingError("the structure solver stopped before the handshake: " + check_stop(e.stop()));
+    interface_ = check_hello(e.hello(), dimension, alpha, peer_);
+    end_time_ = end_time;
     Envelope w;
     w.set_step(0);
     w.mutable_welcome()->set_solver(solver_);
@@ -134,21 +90,11 @@ bool FluidParticipant::receive_offer(Offer& offer) {
     ++step_;
     const Envelope e = channel_->receive(step_, Envelope::kOffer);
     if (e.has_stop()) {
-        stop_reason_ = e.stop().reason();
+        stop_reason_ = check_stop(e.stop());
         return false;
     }
-    const auto& o = e.offer();
-    const size_t n = interface_.size();
-    const std::string& who = channel_->peer();
-    check_step(o.dt(), who, "dt_s", step_);
-    check_values(o.x(), n, who, "x", step_);
-    check_values(o.y(), n, who, "y", step_);
-    check_values(o.velocity(), n, who, "velocity", step_);
-    dt_s_ = o.dt();
-    offer.dt = o.dt();
-    offer.x = to_vector(o.x());
-    offer.y = to_vector(o.y());
-    offer.velocity = to_vector(o.velocity());
+    offer = check_offer(e.offer(), interface_.size(), end_time_, channel_->peer(), step_);
+    dt_s_ = offer.dt;
     return true;
 }
 
@@ -170,22 +116,8 @@ Answer FluidParticipant::exchange(double dt_f, Grant& g) {
     const Envelope r = channel_->receive(step_, Envelope::kAnswer);
     if (r.has_stop())
         throw CouplingError("the structure solver stopped at step " + std::to_string(step_) +
-                            " instead of answering: " + r.stop().reason());
-    const auto& a = r.answer();
-    const size_t n = interface_.size();
-    const std::string& who = channel_->peer();
-    check_values(a.p_i(), n, who, "p_I", step_);
-    check_values(a.u_i(), n, who, "u_I", step_);
-    check_values(a.x(), n, who, "x", step_);
-    check_values(a.y(), n, who, "y", step_);
-    for (size_t k = 0; k < n; ++k)
-        if (a.p_i(k) < g.p_floor) {
-            std::ostringstream s;
-            s << who << " answered p_I = " << a.p_i(k) << " Pa at interface node " << k << " at step "
-              << step_ << ", below the floor p_floor = " << g.p_floor << " Pa";
-            throw CouplingError(s.str());
-        }
-    return {to_vector(a.p_i()), to_vector(a.u_i()), to_vector(a.x()), to_vector(a.y())};
+                            " instead of answering: " + check_stop(r.stop()));
+    return check_answer(r.answer(), interface_.size(), g.p_floor, channel_->peer(), step_);
 }
 
 void FluidParticipant::finalize(const std::string& reason) {
@@ -211,7 +143,9 @@ StructureParticipant::StructureParticipant(const Options& o, const std::string& 
                                            const std::string& version)
     : channel_(std::make_unique<Channel>(o.endpoint, Channel::Role::Connect, "the fluid solver",
                                          o.handshake_timeout_ms)),
-      solver_(solver), version_(version), options_(o) {}
+      solver_(solver), version_(version), options_(o) {
+    channel_->set_stop(o.stop_requested);
+}
 
 StructureParticipant::~StructureParticipant() = default;
 
@@ -232,10 +166,10 @@ double StructureParticipant::initialize(const Interface& i) {
     channel_->send(e);
     const Envelope w = channel_->receive(0, Envelope::kWelcome);
     if (w.has_stop())
-        throw CouplingError("the fluid solver stopped during the handshake: " + w.stop().reason());
-    peer_ = w.welcome().solver() + " " + w.welcome().version();
+        throw CouplingError("the fluid solver stopped during the handshake: " + check_stop(w.stop()));
+    end_time_ = check_welcome(w.welcome(), peer_);
     channel_->set_timeout(options_.timeout_ms);
-    return w.welcome().end_time();
+    return end_time_;
 }
 
 bool StructureParticipant::exchange(const Offer& offer, Grant& grant) {
@@ -250,30 +184,12 @@ bool StructureParticipant::exchange(const Offer& offer, Grant& grant) {
     channel_->send(e);
     const Envelope r = channel_->receive(step_, Envelope::kGrant);
     if (r.has_stop()) {
-        stop_reason_ = r.stop().reason();
+        stop_reason_ = check_stop(r.stop());
         return false;
     }
-    const auto& g = r.grant();
-    const std::string& who = channel_->peer();
-    check_step(g.dt(), who, "dt", step_);
-    if (g.dt() > offer.dt) {
-        std::ostringstream s;
-        s << who << " granted dt = " << g.dt() << " s at step " << step_
-          << ", above the offered dt_s = " << offer.dt << " s";
-        throw CouplingError(s.str());
-    }
-    check_values(g.p_l(), nodes_, who, "p_L", step_);
-    check_values(g.u_l(), nodes_, who, "u_L", step_);
-    check_values(g.z_l(), nodes_, who, "Z_L", step_);
-    check_values(g.geometric(), nodes_, who, "geometric", step_);
-    grant.dt = g.dt();
-    grant.time = g.time();
-    grant.p_floor = g.p_floor();
-    grant.output = g.output();
-    grant.p_L = to_vector(g.p_l());
-    grant.u_L = to_vector(g.u_l());
-    grant.Z_L = to_vector(g.z_l());
-    grant.geometric = to_vector(g.geometric());
+    grant = check_grant(r.grant(), nodes_, offer.dt, time_, end_time_, short_, channel_->peer(), step_);
+    time_ += grant.dt;
+    short_ = grant.dt < limits::dt_floor_fraction * end_time_;
     return true;
 }
 

@@ -6,6 +6,7 @@
 // wrong-version message) throws CouplingError naming the peer, the step and the cause.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -22,7 +23,8 @@ struct CouplingError : std::runtime_error {
 struct Options {
     std::string endpoint;   // ipc://PATH or tcp://HOST:PORT (tcp://HOST:* on the fluid side: any port)
     int timeout_ms = 30000; // longest wait for the peer's next message during the run
-    int handshake_timeout_ms = 300000; // longest wait for the handshake (the peer may still be setting up)
+    int handshake_timeout_ms = 300000;    // longest wait for the handshake (the peer may still be setting up)
+    std::function<bool()> stop_requested; // when given and true, a wait ends at once (SIGINT, SIGTERM)
 };
 
 // The interface nodes, sent once by the structure: reference positions, unit normals pointing from the fluid
@@ -62,9 +64,11 @@ class FluidParticipant {
     FluidParticipant(const Options& o, const std::string& solver, const std::string& version);
     ~FluidParticipant();
     // Waits for the structure's Hello, checks it (dimension and α must match, one value per node, unit
-    // normals, positive areas) and answers with this side's name and the end time.
+    // normals, positive areas, every value in its range: docs/protocol.md §5) and answers with this side's
+    // name and the end time.
     Interface initialize(int dimension, int alpha, double end_time);
-    // The structure's offer for the next step; false when the structure ended the run (Stop).
+    // The structure's offer for the next step (Δt_s not below the Δt floor, every value in range); false
+    // when the structure ended the run (Stop).
     bool receive_offer(Offer& offer);
     // Grants Δt = min(dt_f, Δt_s of the last offer) with the fluid state g (g.dt is set here) and returns the
     // structure's answer.
@@ -88,7 +92,7 @@ class FluidParticipant {
     Options options_;
     Interface interface_;
     std::int64_t step_ = 0;
-    double dt_s_ = 0;
+    double dt_s_ = 0, end_time_ = 0;
 };
 
 // The structure side.
@@ -98,7 +102,8 @@ class StructureParticipant {
     ~StructureParticipant();
     // Sends Hello with the interface and waits for the fluid's Welcome; returns the end time of the run.
     double initialize(const Interface& i);
-    // Offers the next step and waits for the grant; false when the fluid ended the run (Stop).
+    // Offers the next step and waits for the grant (checked: Δt, time against this side's, every value in
+    // range); false when the fluid ended the run (Stop).
     bool exchange(const Offer& offer, Grant& grant);
     // Answers the last grant.
     void answer(const Answer& a);
@@ -114,6 +119,8 @@ class StructureParticipant {
     Options options_;
     size_t nodes_ = 0;
     std::int64_t step_ = 0;
+    double end_time_ = 0, time_ = 0; // from the Welcome; the sum of the Δt granted
+    bool short_ = false;             // the last Δt granted was below the Δt floor (on an output time)
 };
 
 } // namespace undex::coupling

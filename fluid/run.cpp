@@ -3,6 +3,7 @@
 #include "base/case_file.hpp"
 #include "base/run_driver.hpp"
 #include "base/run_plan.hpp"
+#include "base/signals.hpp"
 #include "coupler/participant.hpp"
 #include "fluid/output.hpp"
 #include "fluid/setup.hpp"
@@ -28,7 +29,7 @@ bool coupled_case(const CaseFile& c) {
 class StructureLink {
   public:
     StructureLink(const RunPlan& p, const std::string& endpoint, const Mesh& m, std::ostream& log) {
-        const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms};
+        const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms, stop_requested};
         link_ = std::make_unique<coupling::FluidParticipant>(o, "undex-fluid", "0.1.0");
         log << "undex-fluid: waiting for the structure solver on " << link_->endpoint() << std::endl;
         const auto iface = link_->initialize(1, m.alpha, p.end_time);
@@ -79,7 +80,7 @@ class FluidRun : public Run {
         double dt = solver_->stable_dt();
         if (link_) dt = std::min(dt, offer_.dt);
         const Step s = clock.clip(time(), dt);
-        if (!link_ || !(s.dt > 0) || !std::isfinite(s.dt)) return s; // a bad step is refused by the driver
+        if (!link_ || !clock.admissible(s)) return s; // the driver refuses a step that collapsed
         exchange(s);
         coupling_wall_ +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - wait_start).count();

@@ -13,6 +13,7 @@
 #include "base/h5.hpp"
 #include "base/run_driver.hpp"
 #include "base/run_plan.hpp"
+#include "base/signals.hpp"
 #include "coupler/participant.hpp"
 #include "solid/interface_node.hpp"
 #include "solid/structure_setup.hpp"
@@ -111,7 +112,7 @@ int run_rigid(const CaseFile& c, const std::string& couple) {
     const auto plan = undex::plan(c);
     std::cout << "undex-rigid: " << c.path() << ": rigid plate, " << m.mass_per_area << " kg/m², output "
               << plan.directory << "/solid.h5" << std::endl;
-    const coupling::Options o{couple, plan.coupling_timeout_ms, plan.handshake_timeout_ms};
+    const coupling::Options o{couple, plan.coupling_timeout_ms, plan.handshake_timeout_ms, stop_requested};
     auto link = std::make_unique<coupling::StructureParticipant>(o, "undex-rigid", "0.1.0");
     coupling::Interface i;
     i.x = {0.0}, i.y = {0.0}, i.normal_x = {1.0}, i.normal_y = {0.0}, i.area = {1.0};

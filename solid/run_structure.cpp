@@ -4,6 +4,7 @@
 #include "base/h5.hpp"
 #include "base/run_driver.hpp"
 #include "base/run_plan.hpp"
+#include "base/signals.hpp"
 #include "coupler/participant.hpp"
 #include "proto/case.pb.h"
 #include "solid/structure_setup.hpp"
@@ -161,7 +162,7 @@ class StructureOutput {
 // The fluid, when a face is wet, through the coupling library.
 std::unique_ptr<coupling::StructureParticipant> connect(const RunPlan& p, const std::string& endpoint,
                                                         const Structure& s, std::ostream& log) {
-    const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms};
+    const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms, stop_requested};
     auto link = std::make_unique<coupling::StructureParticipant>(o, "undex-solid", "0.1.0");
     coupling::Interface i;
     for (const WetNode& n : s.wet_nodes()) {

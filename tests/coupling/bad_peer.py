@@ -10,8 +10,13 @@ As the structure it connects and speaks the protocol correctly up to step --at (
     silent         stops answering (sleeps)
     wrong-physics  (structure only) answers every step, but moves against the pressure and ignores the
                    interface condition: p_I = p_L, u_I = -0.01 m/s (for `undex conform` to catch)
+    heartbeats     sends only Heartbeats, every 0.1 s
+    long-error     sends an Error of 1 MB that is not UTF-8
+    tiny-dt        (structure only) offers dt = 5e-324
 As the fluid it binds, answers the Hello, and grants steps with a resting fluid state up to --at, then
-misbehaves the same way (garbage, a Welcome where a Grant is due, version 99, silence).
+misbehaves the same way (garbage, a Welcome where a Grant is due, version 99, silence, heartbeats, a long
+Error) or grants with p_floor = inf (pfloor-inf), p_floor = NaN (pfloor-nan) or time = NaN (time-nan);
+end-negative answers the Hello with end_time = -1.
 """
 import argparse
 import sys
@@ -21,7 +26,8 @@ import time
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--role", choices=["structure", "fluid"], default="structure")
-    ap.add_argument("--mode", choices=["garbage", "wrong-type", "wrong-version", "silent", "wrong-physics"], required=True)
+    ap.add_argument("--mode", choices=["garbage", "wrong-type", "wrong-version", "silent", "wrong-physics", "heartbeats", "long-error",
+                                     "tiny-dt", "pfloor-inf", "pfloor-nan", "time-nan", "end-negative"], required=True)
     ap.add_argument("--at", type=int, default=3)
     ap.add_argument("--proto-dir")
     ap.add_argument("--couple", required=True)
@@ -48,6 +54,25 @@ def main():
         e.ParseFromString(s.recv())
         return e
 
+    def varint(n):
+        out = b""
+        while n > 0x7F:
+            out += bytes([(n & 0x7F) | 0x80])
+            n >>= 7
+        return out + bytes([n])
+
+    def spoil(**fields):
+        def f(message):
+            m = type(message)()
+            m.CopyFrom(message)
+            for k, v in fields.items():
+                setattr(m, k, v)
+            return m
+        return f
+
+    spoilt = {"tiny-dt": spoil(dt=5e-324), "pfloor-inf": spoil(p_floor=float("inf")),
+              "pfloor-nan": spoil(p_floor=float("nan")), "time-nan": spoil(time=float("nan"))}
+
     def misbehave(step, proper):
         if a.mode == "garbage":
             s.send(b"\xff\x00 this is not a coupling envelope \x13\x37")
@@ -56,6 +81,17 @@ def main():
         elif a.mode == "silent":
             time.sleep(60)
             return
+        elif a.mode == "heartbeats":
+            for _ in range(600):  # a minute at most
+                send(step, heartbeat=pb.Heartbeat())
+                time.sleep(0.1)
+            return
+        elif a.mode == "long-error":  # encoded by hand: protobuf's Python API refuses a string that is no UTF-8
+            text = b"\xff\xfe not UTF-8 \n" + b"x" * (1 << 20)
+            error = b"\x0a" + varint(len(text)) + text
+            s.send(b"\x08\x01\x10" + varint(step) + b"\x8a\x01" + varint(len(error)) + error)
+        elif a.mode in spoilt:
+            send(step, **{k: spoilt[a.mode](v) for k, v in proper.items()})
         time.sleep(2)  # let the frame leave before the socket closes
 
     if a.role == "structure":
@@ -87,13 +123,16 @@ def main():
     else:
         s.bind(a.couple)
         recv()  # Hello
-        send(0, welcome=pb.Welcome(solver="bad_peer.py", version="1", end_time=1.0))
+        send(0, welcome=pb.Welcome(solver="bad_peer.py", version="1", end_time=-1.0 if a.mode == "end-negative" else 1.0))
+        if a.mode == "end-negative":
+            time.sleep(2)
+            return 0
         t = 0.0
         for step in range(1, 1000000):
             offer = recv()
             if offer.WhichOneof("body") != "offer":
                 return 0
-            dt = offer.offer.dt
+            dt = min(offer.offer.dt, 1e-7)
             grant = pb.Grant(dt=dt, time=t, p_L=[1e5], u_L=[0.0], Z_L=[1.5e6], geometric=[0.0], p_floor=2338.0)
             if step == a.at:
                 if a.mode == "wrong-type":
