@@ -20,7 +20,7 @@ pids=()
 trap 'for p in "${pids[@]}"; do kill -KILL -- "$p" 2>/dev/null; done; rm -rf "$dir"' EXIT
 pass=0 fail=0
 check() { if eval "$2"; then echo "ok: $1"; pass=$((pass + 1)); else echo "FAIL: $1"; fail=$((fail + 1)); fi; }
-status_of() { /usr/bin/python3 -c "import h5py,sys; print(h5py.File(sys.argv[1],'r').attrs['status'].decode())" "$1" 2>&1; }
+status_of() { /usr/bin/python3 -c "import h5py,sys; print(h5py.File(sys.argv[1],'r')['status'][()].decode().rstrip(chr(0)))" "$1" 2>&1; }
 # Waits (up to 30 s) until the command $1 is true.
 wait_for() { for _ in $(seq 300); do eval "$1" && return 0; sleep 0.1; done; return 1; }
 sums() { (cd "$1" && sha256sum ./*); }

@@ -44,7 +44,7 @@ def last_state(h5):
     try:
         with h5py.File(h5, "r") as f:
             g = f["fields"][sorted(f["fields"])[-1]]
-            return f.attrs["status"].decode(), int(g.attrs.get("last_good", 0)) == 1
+            return f["status"][()].decode(), int(g.attrs.get("last_good", 0)) == 1
     except Exception as e:  # noqa: BLE001 - any failure to read is the finding
         return f"unreadable: {e}", False
 

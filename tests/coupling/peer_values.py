@@ -43,8 +43,7 @@ def check(ok, what, detail=""):
 def status_of(h5):
     try:
         with h5py.File(h5, "r") as f:
-            s = f.attrs["status"]
-            return s.decode() if isinstance(s, bytes) else str(s)
+            return f["status"][()].decode()
     except Exception as e:  # noqa: BLE001 - any failure to read is the finding
         return f"unreadable: {e}"
 
