@@ -174,23 +174,8 @@ void write_attr_long(hid_t obj, const char* name, long value) {
     write_attr(obj, name, H5T_STD_I64LE, H5T_NATIVE_LONG, &value);
 }
 
-void write_text(hid_t loc, const char* name, const std::string& text, size_t capacity) {
-    if (check(H5Lexists(loc, name, H5P_DEFAULT), loc, name, "look up") > 0) {
-        Object set(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose, loc, name, "open the dataset");
-        Object type(H5Dget_type(set.id()), H5Tclose, loc, name, "read the type of");
-        const size_t size = H5Tget_size(type.id());
-        if (size == 0) fail(loc, name, "read the size of");
-        if (text.size() <= size) { // in place
-            std::string padded = text;
-            padded.resize(size, '\0');
-            check(H5Dwrite(set.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()), loc, name,
-                  "write the dataset");
-            set.close("write the dataset"); // the text goes to the file here
-            return;
-        }
-        set.close();
-        check(H5Ldelete(loc, name, H5P_DEFAULT), loc, name, "delete");
-    }
+namespace {
+void create_text(hid_t loc, const char* name, const std::string& text, size_t capacity) {
     std::string padded = text;
     padded.resize(std::max<size_t>({text.size(), capacity, 1}), '\0');
     Object type = string_type(loc, name, padded.size());
@@ -200,6 +185,40 @@ void write_text(hid_t loc, const char* name, const std::string& text, size_t cap
     check(H5Dwrite(set.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()), loc, name,
           "write the dataset");
     set.close("write the dataset");
+}
+} // namespace
+
+void write_text(hid_t loc, const char* name, const std::string& text, size_t capacity) {
+    if (check(H5Lexists(loc, name, H5P_DEFAULT), loc, name, "look up") == 0) {
+        create_text(loc, name, text, capacity);
+        return;
+    }
+    Object set(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose, loc, name, "open the dataset");
+    Object type(H5Dget_type(set.id()), H5Tclose, loc, name, "read the type of");
+    const size_t size = H5Tget_size(type.id());
+    if (size == 0) fail(loc, name, "read the size of");
+    if (text.size() > size) {
+        // A longer text goes into a new dataset that then replaces this one; when the new one cannot be made
+        // (a full disk), this one keeps as much of the text's start as it holds.
+        const std::string fresh = std::string(name) + ".new";
+        try {
+            delete_link(loc, fresh.c_str());
+            create_text(loc, fresh.c_str(), text, capacity);
+            set.close();
+            check(H5Ldelete(loc, name, H5P_DEFAULT), loc, name, "delete");
+            check(H5Lmove(loc, fresh.c_str(), loc, name, H5P_DEFAULT, H5P_DEFAULT), loc, name,
+                  "rename the new");
+            return;
+        } catch (const Error&) {
+            if (set.id() < 0) throw;
+        }
+    }
+    // In place: the space is in the file already (a status written on a full disk).
+    std::string padded = text.substr(0, size);
+    padded.resize(size, '\0');
+    check(H5Dwrite(set.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()), loc, name,
+          "write the dataset");
+    set.close("write the dataset"); // the text goes to the file here
 }
 
 namespace {

@@ -105,8 +105,10 @@ int inherited(const std::string& path) {
 } // namespace
 
 RunLock::RunLock(const std::string& directory, const std::string& command, bool force) {
-    const fs::path dir = fs::absolute(directory);
-    for (fs::path p = dir; !p.empty() && !fs::exists(p) && p != p.parent_path(); p = p.parent_path())
+    std::error_code ec;
+    const fs::path dir = fs::absolute(directory, ec);
+    if (ec) throw RunLockError("output directory " + directory + ": " + ec.message());
+    for (fs::path p = dir; !p.empty() && !fs::exists(p, ec) && p != p.parent_path(); p = p.parent_path())
         created_.push_back(p.string());
     try {
         fs::create_directories(dir);

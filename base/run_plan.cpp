@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 namespace undex {
 
@@ -88,6 +89,15 @@ MemoryLimit memory_limit() {
     if (getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY &&
         (m.bytes <= 0 || static_cast<double>(r.rlim_cur) < m.bytes))
         m = {static_cast<double>(r.rlim_cur), "the address-space limit (ulimit -v)"};
+    // A container's memory limit (cgroup v2, then v1; "max" or a huge number when there is none).
+    for (const char* file : {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"}) {
+        std::ifstream in(file);
+        double limit = 0;
+        if (in >> limit && limit > 0 && (m.bytes <= 0 || limit < m.bytes)) {
+            m = {limit, std::string("the memory limit of this process's control group (") + file + ")"};
+            break;
+        }
+    }
     return m;
 }
 

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -15,7 +16,7 @@ namespace undex {
 namespace {
 volatile std::sig_atomic_t stop_signal = 0;
 // Read once by install_stop_handler, for the handler.
-long launcher = 0;            // UNDEX_LAUNCHER_PID, 0 when not started by undex
+long launcher = 0; // UNDEX_LAUNCHER_PID when undex is this process's parent (not a wrapper's), else 0
 char launcher_log[4096] = {}; // UNDEX_LOG
 volatile std::sig_atomic_t following = 0;
 
@@ -36,14 +37,21 @@ void follow_into_log() {
 }
 
 void on_stop(int sig) {
+    const int saved = errno; // the code the signal interrupted may read errno next
     stop_signal = sig;
     if (launcher_ended()) follow_into_log();
+    errno = saved;
 }
 
 } // namespace
 
 void install_stop_handler() {
-    if (const char* pid = std::getenv(launcher_pid_env)) launcher = std::atol(pid);
+    // undex sets PR_SET_PDEATHSIG (SIGHUP) on the processes it starts: its death before the handler is in
+    // place ends this process by the signal's default action, so a parent other than undex here is a program
+    // in between (a structure.command wrapper), whose own parent undex is: this process does not follow
+    // undex.
+    if (const char* pid = std::getenv(launcher_pid_env))
+        if (std::atol(pid) == static_cast<long>(getppid())) launcher = std::atol(pid);
     if (const char* log = std::getenv(launcher_log_env))
         std::snprintf(launcher_log, sizeof launcher_log, "%s", log);
     struct sigaction sa {};
@@ -51,7 +59,6 @@ void install_stop_handler() {
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
     sigaction(SIGHUP, &sa, nullptr);
-    if (launcher_ended()) raise(SIGHUP); // it died before the handler was in place
     signal(SIGXFSZ, SIG_IGN); // past RLIMIT_FSIZE a write fails (EFBIG, named) instead of killing the run
 }
 
@@ -67,10 +74,11 @@ std::string stop_reason() {
                        : sig == SIGHUP  ? "SIGHUP"
                                         : "?") +
                       ")";
-    if (launcher_ended()) {
+    if (launcher_ended())
         why += ": undex (pid " + std::to_string(launcher) + "), which started this solver, ended";
-        std::cout.clear(), std::cerr.clear(); // a write that failed before the handler ran is forgotten
-    }
+    // A write that the signal interrupted (or that failed before the handler ran) is forgotten, so that the
+    // lines saying how the run ended are written.
+    std::cout.clear(), std::cerr.clear();
     return why;
 }
 

@@ -3,9 +3,9 @@
 
 #include "base/case_file.hpp"
 #include "base/exit_status.hpp"
+#include "base/h5.hpp"
 #include "base/run_lock.hpp"
 #include "base/run_plan.hpp"
-#include "base/h5.hpp"
 #include "base/signals.hpp"
 
 #include <CLI/CLI.hpp>
@@ -138,7 +138,8 @@ int solver_main(int argc, char** argv, const SolverCommands& c) {
         for (const auto& f : c.failures)
             if (f.matches(e)) {
                 std::cerr << c.name << ": error: " << f.prefix << e.what() << "\n";
-                // A wait of the handshake ended by SIGINT or SIGTERM: stopped, as in the run (drive()).
+                // A wait of the handshake ended by SIGINT, SIGTERM or SIGHUP: stopped, as in the run
+                // (drive()).
                 return stop_requested() ? exit_stopped : f.status;
             }
         std::cerr << c.name << ": error: " << e.what() << "\n";

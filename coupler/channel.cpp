@@ -168,7 +168,7 @@ Envelope Channel::receive(std::int64_t step, Envelope::BodyCase expected) {
         return wait(step, expected);
     } catch (const zmq::error_t& err) {
         throw CouplingError(
-            (err.num() == EINTR ? "stopped by a signal (SIGINT or SIGTERM)" : "the socket failed") +
+            (err.num() == EINTR ? "stopped by a signal (SIGINT, SIGTERM or SIGHUP)" : "the socket failed") +
             std::string(" at step ") + std::to_string(step) + " while waiting for " + body_name(expected) +
             " from " + peer_ + ": " + err.what());
     }
@@ -217,8 +217,8 @@ Envelope Channel::wait(std::int64_t step, Envelope::BodyCase expected) {
                     throw CouplingError(peer_ + " closed the connection" + at + " (waiting for " +
                                         body_name(expected) + "): its process ended or was killed");
             } else if (stop_ && stop_()) {
-                throw CouplingError("stopped by a signal (SIGINT or SIGTERM)" + at + " while waiting for " +
-                                    body_name(expected) + " from " + peer_);
+                throw CouplingError("stopped by a signal (SIGINT, SIGTERM or SIGHUP)" + at +
+                                    " while waiting for " + body_name(expected) + " from " + peer_);
             } else if ((items[1].revents & ZMQ_POLLIN) || Clock::now() < deadline) {
                 continue;
             } else if (heartbeats && deadline >= limit) {

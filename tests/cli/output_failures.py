@@ -20,8 +20,8 @@
    naming only outputs the .h5 holds, no .tmp left.
 2. A case with a 3 000-point pressure table (a case text of about 170 kB, over HDF5's 64 kB limit of an
    attribute) runs and stores its case text and its status.
-3. A peer's Error message of 200 000 characters: undex-rigid exits 3 and stores the whole message in its
-   status.
+3. A peer's Error message of 200 000 characters: undex-rigid exits 3 and its status quotes the message's
+   start and its length (coupler/messages.hpp quote).
 """
 import os
 import re
@@ -132,6 +132,9 @@ def full_disk_run(how, name, case, sets, files, out, limit=None):
     check(r.returncode in ok_status, f"{label}: exit status {' or '.join(map(str, ok_status))} (got {r.returncode})",
           said)
     check(not re.search(r": done:", said), f"{label}: nothing says done", said)
+    # undex returns the fluid's status: each side's own exit code (in undex's lines) is 2 or 3, never a crash.
+    sides = re.findall(r"undex: (\w+) ended with exit code (\d+)", said)
+    check(all(int(c) in (2, 3) for _, c in sides), f"{label}: no side crashed ({sides})", said)
     names = "|".join(re.escape(f) for f in files + [f.replace(".h5", ".xmf") for f in files])
     error = re.search(rf"error: {re.escape(out)}/({names})(: /\S+)?: cannot [^:]+: {cause}", said)
     check(error, f"{label}: the error names the file and '{cause}'", said)

@@ -123,6 +123,15 @@ rc=$?
 check "undex run (coupled) >&- 2>&-: exit $rc, both complete, logs to the end" \
     '[ $rc -eq 0 ] && [ "$(status_of "$dir/closed/fluid.h5")" = complete ] && [ "$(status_of "$dir/closed/solid.h5")" = complete ] && grep -q "undex-rigid: done" "$dir/closed/solid.log"'
 
+# A structure solver started through a program in between (structure.command running a shell that does not
+# exec it): undex is not its parent, so it must not take that for undex's death and stop.
+"$undex" run "$cases/taylor_plate_1d.case" --set end_time=1e-4 -o "$dir/wrapped" \
+    --set "structure.command=/bin/sh -c '\"$bin/undex-rigid\" \"$cases/taylor_plate_1d.case\" --set end_time=1e-4 -o \"$dir/wrapped\" \"\$@\"; exit \$?' wrapper" \
+    >"$dir/wrapped.out" 2>&1
+rc=$?
+check "a structure solver behind a wrapper (exit $rc): both complete" \
+    '[ $rc -eq 0 ] && [ "$(status_of "$dir/wrapped/fluid.h5")" = complete ] && [ "$(status_of "$dir/wrapped/solid.h5")" = complete ]'
+
 # 5. A case refused after the lock was taken leaves nothing behind.
 "$bin/undex-fluid" "$cases/sod_1d.case" --set regions[1].rho=-1 -o "$dir/new/out" >"$dir/bad.out" 2>&1
 rc=$?

@@ -146,7 +146,7 @@ TEST(Messages, HelloAndAnswerValuesAreChecked) {
               std::string::npos);
 }
 
-// A peer's text goes into our messages bounded, printable and valid UTF-8 (the status attribute of an
+// A peer's text goes into our messages bounded, printable and valid UTF-8 (the status of an
 // output file and the logs take it): 1 MB of Error message becomes about 1000 characters.
 TEST(Messages, APeersTextIsQuotedBoundedAndPrintable) {
     EXPECT_EQ(quote("element 12 inverted"), "element 12 inverted");
