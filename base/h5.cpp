@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -222,6 +223,19 @@ void write_text(hid_t loc, const char* name, const std::string& text, size_t cap
 }
 
 namespace {
+// The hook of the WriteHook in scope, and when it last ran.
+std::function<void()> write_hook;
+double write_hook_seconds = 0;
+std::chrono::steady_clock::time_point write_hook_last;
+
+void after_write() {
+    if (!write_hook) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - write_hook_last).count() < write_hook_seconds) return;
+    write_hook_last = now;
+    write_hook();
+}
+
 void write_typed(hid_t loc, const char* name, const std::vector<hsize_t>& dims, hid_t file_type,
                  hid_t mem_type, const void* data) {
     delete_link(loc, name);
@@ -231,8 +245,18 @@ void write_typed(hid_t loc, const char* name, const std::vector<hsize_t>& dims, 
                loc, name, "create the dataset");
     check(H5Dwrite(set.id(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), loc, name, "write the dataset");
     set.close("write the dataset"); // a small dataset's data goes to the file here
+    after_write();
 }
 } // namespace
+
+WriteHook::WriteHook(std::function<void()> hook, double seconds) {
+    write_hook = std::move(hook);
+    write_hook_seconds = seconds;
+    write_hook_last = std::chrono::steady_clock::now();
+}
+WriteHook::~WriteHook() {
+    write_hook = nullptr;
+}
 
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const double* data) {
     write_typed(loc, name, dims, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, data);

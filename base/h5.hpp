@@ -70,6 +70,16 @@ template <class T> void write_attr(hid_t obj, const char* name, T value) {
 void write_text(hid_t loc, const char* name, const std::string& text, size_t capacity = 0);
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const double* data);
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const int* data);
+// While one is in scope, hook() runs after a dataset is written (write_dataset, write_table), at most once
+// per `seconds`: a coupled solver keeps its partner waiting through a long output with heartbeats between its
+// datasets (docs/protocol.md). One at a time per process.
+class WriteHook {
+  public:
+    WriteHook(std::function<void()> hook, double seconds);
+    ~WriteHook();
+    WriteHook(const WriteHook&) = delete;
+    WriteHook& operator=(const WriteHook&) = delete;
+};
 std::string read_attr_string(hid_t obj, const char* name);
 double read_attr_double(hid_t obj, const char* name);
 std::string read_text(hid_t loc, const char* name);

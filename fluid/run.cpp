@@ -1,6 +1,7 @@
 #include "fluid/run.hpp"
 
 #include "base/case_file.hpp"
+#include "base/h5.hpp"
 #include "base/run_driver.hpp"
 #include "base/run_plan.hpp"
 #include "base/signals.hpp"
@@ -11,6 +12,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <ostream>
 
 #ifdef _OPENMP
@@ -96,7 +98,13 @@ class FluidRun : public Run {
     }
     void record() override { out_.record_gauges(*solver_); }
     void write_output() override {
-        if (link_) (*link_)->heartbeat(); // the structure's wait restarts: an output may take a while
+        // The structure's wait restarts: an output may take a while (a heartbeat before it and between its
+        // datasets, at most once a second).
+        std::optional<h5::WriteHook> keep_waiting;
+        if (link_) {
+            (*link_)->heartbeat();
+            keep_waiting.emplace([this] { (*link_)->heartbeat(); }, 1.0);
+        }
         out_.write_fields(*solver_);
         write_history();
     }

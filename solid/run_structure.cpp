@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #ifdef _OPENMP
@@ -225,7 +226,13 @@ class StructureRun : public Run {
     }
     void record() override { out_.record(); }
     void write_output() override {
-        if (link_) link_->heartbeat(); // the fluid's wait restarts: an output may take a while
+        // The fluid's wait restarts: an output may take a while (a heartbeat before it and between its
+        // datasets, at most once a second).
+        std::optional<h5::WriteHook> keep_waiting;
+        if (link_) {
+            link_->heartbeat();
+            keep_waiting.emplace([this] { link_->heartbeat(); }, 1.0);
+        }
         out_.write_fields();
         write_history();
     }
