@@ -19,6 +19,20 @@ std::string output_override(const std::string& directory) {
     return "output.directory=" + directory;
 }
 
+CLI::Option* add_case_options(CLI::App& app, std::string& path, std::vector<std::string>& sets,
+                              std::string& output) {
+    auto* case_opt = app.add_option("CASE", path, "the case file (text format or JSON of proto/case.proto)");
+    app.add_option("--set", sets, "override a scalar of the case, e.g. numerics.cfl=0.4 (repeatable)")
+        ->type_name("KEY=VALUE")
+        ->allow_extra_args(false);
+    app.add_option("-o,--output", output, "the output directory (the override output.directory=DIR)")
+        ->type_name("DIR")
+        ->check([](const std::string& dir) {
+            return dir.empty() ? std::string("the output directory is empty") : "";
+        });
+    return case_opt;
+}
+
 namespace {
 
 // What the command line asked for.
@@ -59,16 +73,7 @@ void add_sample_options(CLI::App& app, Request& r) {
 
 // The command line of c; request is filled by CLI11's parse.
 void describe(CLI::App& app, const SolverCommands& c, Request& r) {
-    auto* case_opt =
-        app.add_option("CASE", r.case_path, "the case file (text format or JSON of proto/case.proto)");
-    app.add_option("--set", r.sets, "override a scalar of the case, e.g. numerics.cfl=0.4 (repeatable)")
-        ->type_name("KEY=VALUE")
-        ->allow_extra_args(false);
-    app.add_option("-o,--output", r.output, "the output directory (the override output.directory=DIR)")
-        ->type_name("DIR")
-        ->check([](const std::string& dir) {
-            return dir.empty() ? std::string("the output directory is empty") : "";
-        });
+    auto* case_opt = add_case_options(app, r.case_path, r.sets, r.output);
     auto* couple = app.add_option("--couple", r.couple, "couple to the other solver through ENDPOINT")
                        ->type_name("ENDPOINT");
     auto* force = app.add_flag(

@@ -16,6 +16,11 @@
 #include <utility>
 #include <vector>
 
+namespace CLI {
+class App;
+class Option;
+} // namespace CLI
+
 namespace undex {
 class CaseFile;
 
@@ -65,5 +70,10 @@ int solver_main(int argc, char** argv, const SolverCommands& commands);
 
 // The override -o DIR stands for.
 std::string output_override(const std::string& directory);
+
+// The case options of every command that reads a case (the solvers, `undex check`, `undex run`): CASE,
+// --set KEY=VALUE (repeatable), -o/--output DIR (not empty). Returns the CASE option.
+CLI::Option* add_case_options(CLI::App& app, std::string& path, std::vector<std::string>& sets,
+                              std::string& output);
 
 } // namespace undex

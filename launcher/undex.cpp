@@ -123,15 +123,7 @@ int options() {
 
 // The case options of check and run.
 void add_case_options(CLI::App& app, CaseRequest& r) {
-    app.add_option("CASE", r.path, "the case file (text format or JSON of proto/case.proto)")->required();
-    app.add_option("--set", r.sets, "override a scalar of the case, e.g. numerics.cfl=0.4 (repeatable)")
-        ->type_name("KEY=VALUE")
-        ->allow_extra_args(false);
-    app.add_option("-o,--output", r.output, "the output directory (the override output.directory=DIR)")
-        ->type_name("DIR")
-        ->check([](const std::string& dir) {
-            return dir.empty() ? std::string("the output directory is empty") : "";
-        });
+    undex::add_case_options(app, r.path, r.sets, r.output)->required();
 }
 
 // What the command line asked for.

@@ -35,19 +35,11 @@ import xml.etree.ElementTree as ET
 
 import h5py
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from checks import check, finish  # noqa: E402
+
 BIN, CASES, PYDIR, WORK = [os.path.abspath(p) for p in sys.argv[1:5]]
 sys.path.insert(0, PYDIR)
-failures, passed = [], 0
-
-
-def check(ok, what, detail=""):
-    global passed
-    if ok:
-        passed += 1
-        print(f"ok: {what}")
-    else:
-        failures.append(what)
-        print(f"FAIL: {what}\n{detail}")
 
 
 def text(dataset):
@@ -264,5 +256,4 @@ check(status.startswith("failed: coupling: ") and long_message[:900] in status a
       f"{len(long_message)} bytes in all" in status and not problems,
       f"long Error: the status quotes its start and its length ({len(status)} characters)", status[:300])
 
-print(f"{passed} passed, {len(failures)} failed")
-sys.exit(1 if failures else 0)
+finish()

@@ -17,32 +17,14 @@ import subprocess
 import sys
 import time
 
-import h5py
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from checks import check, finish, status_of  # noqa: E402
 
 BIN, CASES, PYDIR, WORK = [os.path.abspath(p) for p in sys.argv[1:5]]
 HERE = os.path.dirname(os.path.abspath(__file__))
 BAD = os.path.join(HERE, "bad_peer.py")
 TIMEOUT = 2.0
-failures, passed = [], 0
-
-
-def check(ok, what, detail=""):
-    global passed
-    if ok:
-        passed += 1
-        print(f"ok: {what}")
-    else:
-        failures.append(f"{what}\n{detail}")
-        print(f"FAIL: {what}\n{detail}")
-
-
-def status_of(h5):
-    """The status of an output file, which must open (the last complete output stays readable)."""
-    try:
-        with h5py.File(h5, "r") as f:
-            return f["status"][()].decode()
-    except Exception as e:  # noqa: BLE001 - any failure to read is the finding
-        return f"unreadable: {e}"
 
 
 def make_case(name, source, structure=None, extra=""):
@@ -203,5 +185,4 @@ for value in ("-1", "0", "inf"):
     check(r.returncode == 1 and "coupling.timeout: must" in r.stderr and "(0, 86400]" in r.stderr,
           f"coupling.timeout = {value} refused by undex check", r.stderr)
 
-print(f"{passed} passed, {len(failures)} failed")
-sys.exit(1 if failures else 0)
+finish()

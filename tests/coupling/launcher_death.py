@@ -23,20 +23,12 @@ import time
 
 import h5py
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from checks import check, finish  # noqa: E402
+
 BIN, CASES, WORK = [os.path.abspath(p) for p in sys.argv[1:4]]
 UNDEX = os.path.join(BIN, "undex")
 CASE = os.path.join(CASES, "sandwich_shock_1d.case")  # undex-fluid and undex-solid, about 10 s to the end
-failures, passed = [], 0
-
-
-def check(ok, what, detail=""):
-    global passed
-    if ok:
-        passed += 1
-        print(f"ok: {what}")
-    else:
-        failures.append(what)
-        print(f"FAIL: {what}\n{detail}")
 
 
 def last_state(h5):
@@ -117,5 +109,4 @@ for side in ("fluid", "solid"):
 check("undex: hangup (SIGHUP): stopping both sides" in text and not os.path.exists(os.path.join(out, "undex.lock")),
       "undex says so and removes its lock", text[-1500:])
 
-print(f"{passed} passed, {len(failures)} failed")
-sys.exit(1 if failures else 0)
+finish()

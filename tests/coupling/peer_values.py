@@ -21,31 +21,14 @@ import subprocess
 import sys
 import time
 
-import h5py
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from checks import check, finish, status_of  # noqa: E402
 
 BIN, CASES, PYDIR, WORK = [os.path.abspath(p) for p in sys.argv[1:5]]
 BAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "bad_peer.py")
 TIMEOUT = 2.0  # bad_peer.py answers and beats every 0.1 s or faster: a loaded CI machine may delay it
 LIMIT = 10 * TIMEOUT  # coupler/channel.hpp heartbeat_limit
-failures, passed = [], 0
-
-
-def check(ok, what, detail=""):
-    global passed
-    if ok:
-        passed += 1
-        print(f"ok: {what}")
-    else:
-        failures.append(what)
-        print(f"FAIL: {what}\n{detail}")
-
-
-def status_of(h5):
-    try:
-        with h5py.File(h5, "r") as f:
-            return f["status"][()].decode()
-    except Exception as e:  # noqa: BLE001 - any failure to read is the finding
-        return f"unreadable: {e}"
 
 
 def make_case(name, source, structure=None):
@@ -159,5 +142,4 @@ sigterm_in_handshake("undex-fluid", "taylor_plate_1d.case")
 sigterm_in_handshake("undex-solid", "sandwich_shock_1d.case")
 sigterm_in_handshake("undex-rigid", "taylor_plate_1d.case")
 
-print(f"{passed} passed, {len(failures)} failed")
-sys.exit(1 if failures else 0)
+finish()
