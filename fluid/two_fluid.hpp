@@ -363,7 +363,15 @@ class TwoFluid final : public FluidSolver {
                          ut_v = w_own.v - (neg ? unl : unr) * nrm[1];
             redefined[c] = {neg ? st.rho_l : st.rho_r, ut_u + st.u * nrm[0],
                             D == 2 ? ut_v + st.u * nrm[1] : 0.0, st.p};
-            Fields& f = neg ? fm : fp;
+        }
+        // The interface states replace the real states only once every interface cell is solved: each
+        // Riemann problem sees the real states of both sides, whatever the order the cells are visited in
+        // (written in place, a cell's neighbours across would be redefined or not by their index, and
+        // mirror-image cells would differ).
+        for (size_t c = 0; c < cells.size(); ++c) {
+            if (!(redefined[c].rho > 0)) continue;
+            const long k = at(cells[c][0], cells[c][1]);
+            Fields& f = phi_(cells[c][0], cells[c][1]) < 0 ? fm : fp;
             f.rho[k] = redefined[c].rho, f.u[k] = redefined[c].u, f.v[k] = redefined[c].v,
             f.p[k] = redefined[c].p;
         }
