@@ -104,6 +104,13 @@ class LevelSet {
         std::sort(order.begin(), order.end(),
                   [&](int a, int b) { return std::abs(phi_[a]) < std::abs(phi_[b]); });
         std::vector<char> set(known.begin(), known.end());
+        // A cell takes values only from known cells and from cells clearly closer to the interface (by more
+        // than round-off): cells of (nearly) equal |φ|, such as mirror images across a symmetry axis, never
+        // use each other's new values, so the visiting order of ties plays no part.
+        const double tie = 1e-9 * width;
+        auto usable = [&](int k, int c) {
+            return set[k] && (known[k] || std::abs(phi_[k]) < std::abs(phi_[c]) - tie);
+        };
         for (int c : order) {
             const int i = c % nx_, j = c / nx_;
             const std::array<double, 2> n = normal(i, j);
@@ -112,24 +119,28 @@ class LevelSet {
             int up[2] = {-1, -1};
             double w[2] = {std::abs(vx) / dx_, std::abs(vy) / dy_};
             const int iu = vx > 0 ? i - 1 : i + 1, ju = vy > 0 ? j - 1 : j + 1;
-            if (w[0] > 0 && iu >= 0 && iu < nx_ && set[j * nx_ + iu]) up[0] = j * nx_ + iu;
-            if (w[1] > 0 && ju >= 0 && ju < ny_ && set[ju * nx_ + i]) up[1] = ju * nx_ + i;
+            if (w[0] > 0 && iu >= 0 && iu < nx_ && usable(j * nx_ + iu, c)) up[0] = j * nx_ + iu;
+            if (w[1] > 0 && ju >= 0 && ju < ny_ && usable(ju * nx_ + i, c)) up[1] = ju * nx_ + i;
             double wsum = (up[0] >= 0 ? w[0] : 0.0) + (up[1] >= 0 ? w[1] : 0.0);
             if (!(wsum > 0)) {
                 // No upwind value: the set neighbours closer to the interface, equally weighted.
                 const int nb[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
-                int found = 0, list[4];
-                for (const auto& q : nb)
+                int found = 0, list[4] = {-1, -1, -1, -1};
+                for (int m = 0; m < 4; ++m) {
+                    const auto& q = nb[m];
                     if (q[0] >= 0 && q[0] < nx_ && q[1] >= 0 && q[1] < ny_) {
                         const int k = q[1] * nx_ + q[0];
-                        if (set[k] && std::abs(phi_[k]) <= std::abs(phi_[c])) list[found++] = k;
+                        if (usable(k, c)) list[m] = k, ++found;
                     }
+                }
                 if (found == 0) continue;
+                // Summed as (−x + +x) + (−y + +y) so that a mirror image of the neighbourhood gives the same
+                // rounding.
                 for (double* f : fields) {
-                    double m = 0;
-                    for (int k = 0; k < found; ++k)
-                        m += f[list[k]];
-                    f[c] = m / found;
+                    double pair[2] = {0, 0};
+                    for (int k = 0; k < 4; ++k)
+                        if (list[k] >= 0) pair[k / 2] += f[list[k]];
+                    f[c] = (pair[0] + pair[1]) / found;
                 }
                 set[c] = 1;
                 continue;
