@@ -29,6 +29,52 @@ template <int D, int K> struct Basis {
     static double dphi_deta(int l, double xi, double eta) { return p1(px(l), xi) * dp1(py(l), eta); }
     static double norm(int l) { return norm1(px(l)) * norm1(py(l)); }
 
+    // Sums in an order that a mirror image (x = y: ξ ↔ η; an axis: ξ → −ξ or η → −η) maps onto itself up to
+    // the commutativity of +, so that mirror-image cells round alike and a symmetric problem stays
+    // symmetric to the last bit. 1D sums run in index order.
+    // Over the basis functions: ((1 + (ξ + η)) + ξη) + (ξ² + η²).
+    template <class T> static double mode_sum(const T& t) {
+        if constexpr (D == 1) {
+            double s = 0;
+            for (int l = 0; l < NB; ++l)
+                s += t[l];
+            return s;
+        } else if constexpr (NB == 1)
+            return t[0];
+        else if constexpr (NB == 3)
+            return t[0] + (t[1] + t[2]);
+        else
+            return ((t[0] + (t[1] + t[2])) + t[3]) + (t[4] + t[5]);
+    }
+    // Over the volume points q = i + NQ1·j: centre, edge midpoints, corners, each orbit of the square's
+    // symmetries summed in pairs.
+    template <class T> static double point_sum(const T& t) {
+        if constexpr (D == 1) {
+            double s = 0;
+            for (int q = 0; q < NQV; ++q)
+                s += t[q];
+            return s;
+        } else if constexpr (NQ1 == 1)
+            return t[0];
+        else if constexpr (NQ1 == 2)
+            return (t[0] + t[3]) + (t[1] + t[2]);
+        else
+            return (t[4] + ((t[3] + t[5]) + (t[1] + t[7]))) + ((t[0] + t[8]) + (t[2] + t[6]));
+    }
+    // Over the points of one face (symmetric about the face centre).
+    template <class T> static double face_sum(const T& t) {
+        if constexpr (NQF == 1)
+            return t[0];
+        else if constexpr (NQF == 2)
+            return t[0] + t[1];
+        else
+            return (t[0] + t[2]) + t[1];
+    }
+    // Basis function of the mirror image about x = y (ξ ↔ η) and parities under ξ → −ξ, η → −η.
+    static constexpr int swap_xy(int l) { return D == 1 ? l : std::array<int, 6>{0, 2, 1, 3, 5, 4}[l]; }
+    static constexpr double parity_x(int l) { return px(l) % 2 ? -1.0 : 1.0; }
+    static constexpr double parity_y(int l) { return py(l) % 2 ? -1.0 : 1.0; }
+
     // Gauss–Legendre points on [−1, 1] and weights normalised to sum to one.
     static std::array<double, NQ1> gauss_points() {
         if constexpr (NQ1 == 1)

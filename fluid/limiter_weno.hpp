@@ -67,6 +67,42 @@ template <int D, int K> struct WenoTables {
                     }
                 smooth[l][m] = s;
             }
+        if constexpr (D == 2) symmetrise();
+    }
+
+  private:
+    // The quadratures above round differently for mirror-image entries (and leave round-off where an entry
+    // is zero by parity). Exact copies make the tables as symmetric as the exact ones, so that mirror-image
+    // cells are limited alike to the last bit: entries odd under ξ → −ξ or η → −η are zero, the +x
+    // neighbour is the mirror image of the −x one, the ±y ones are the ±x ones with ξ ↔ η, and the
+    // smoothness matrix is symmetric and invariant under ξ ↔ η.
+    void symmetrise() {
+        auto sw = [](int l) { return B::swap_xy(l); };
+        for (int l = 0; l < NB; ++l)
+            for (int m = 0; m < NB; ++m)
+                if (B::parity_y(l) * B::parity_y(m) < 0) shift[0][l][m] = 0.0;
+        for (int l = 0; l < NB; ++l)
+            for (int m = 0; m < NB; ++m) {
+                shift[1][l][m] = B::parity_x(l) * B::parity_x(m) * shift[0][l][m];
+                shift[2][l][m] = shift[0][sw(l)][sw(m)];
+            }
+        for (int l = 0; l < NB; ++l)
+            for (int m = 0; m < NB; ++m)
+                shift[3][l][m] = shift[1][sw(l)][sw(m)];
+        double s[NB][NB];
+        for (int l = 0; l < NB; ++l)
+            for (int m = 0; m < NB; ++m) {
+                // The value of the first of the equivalent entries (l, m), (m, l) and their ξ ↔ η images.
+                const int c[4][2] = {{l, m}, {m, l}, {sw(l), sw(m)}, {sw(m), sw(l)}};
+                int best = 0;
+                for (int k = 1; k < 4; ++k)
+                    if (c[k][0] < c[best][0] || (c[k][0] == c[best][0] && c[k][1] < c[best][1])) best = k;
+                const bool odd = B::parity_x(l) * B::parity_x(m) < 0 || B::parity_y(l) * B::parity_y(m) < 0;
+                s[l][m] = odd ? 0.0 : smooth[c[best][0]][c[best][1]];
+            }
+        for (int l = 0; l < NB; ++l)
+            for (int m = 0; m < NB; ++m)
+                smooth[l][m] = s[l][m];
     }
 };
 

@@ -73,8 +73,10 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             for (int i = 0; i < mesh_.nx; ++i) {
                 double* c = cell(u_.data(), i, j);
                 std::fill(c, c + NC, 0.0);
+                constexpr int NPY = D == 1 ? 1 : NP;
+                double T[NP][NPY][NC]; // the quadrature terms
                 for (int a = 0; a < NP; ++a)
-                    for (int b = 0; b < (D == 1 ? 1 : NP); ++b) {
+                    for (int b = 0; b < NPY; ++b) {
                         const double xi = gp[a], eta = D == 1 ? 0.0 : gp[b];
                         const double wq = D == 1 ? wp[a] / 2 : wp[a] * wp[b] / 4;
                         double q[NV];
@@ -82,8 +84,25 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                                      q);
                         for (int v = 0; v < NV; ++v)
                             for (int l = 0; l < NB; ++l)
-                                c[v * NB + l] += wq * q[v] * B::phi(l, xi, eta) / B::norm(l);
+                                T[a][b][v * NB + l] = wq * q[v] * B::phi(l, xi, eta) / B::norm(l);
                     }
+                if constexpr (D == 1) {
+                    for (int a = 0; a < NP; ++a)
+                        for (int k = 0; k < NC; ++k)
+                            c[k] += T[a][0][k];
+                } else {
+                    // Summed by orbits of the square's symmetries, each in pairs (see Basis::mode_sum), so
+                    // that mirror-image cells of symmetric data round alike. ā = NP − 1 − a.
+                    for (int k = 0; k < NC; ++k)
+                        for (int a = 0; a < NP / 2; ++a)
+                            for (int b = a; b < NP / 2; ++b) {
+                                auto quad = [&](int x, int y) {
+                                    const int xb = NP - 1 - x, yb = NP - 1 - y;
+                                    return (T[x][y][k] + T[xb][yb][k]) + (T[xb][y][k] + T[x][yb][k]);
+                                };
+                                c[k] += a == b ? quad(a, a) : quad(a, b) + quad(b, a);
+                            }
+                }
             }
         limit(u_, 0.0, "initial data");
     }
@@ -205,9 +224,10 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         const double* c = cell(u_.data(), i, j);
         double q[NV];
         for (int v = 0; v < NV; ++v) {
-            q[v] = 0;
+            double t[NB];
             for (int l = 0; l < NB; ++l)
-                q[v] += c[v * NB + l] * B::phi(l, xi, eta);
+                t[l] = c[v * NB + l] * B::phi(l, xi, eta);
+            q[v] = B::mode_sum(t);
         }
         return primitive(q);
     }
@@ -300,10 +320,10 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 
     template <int Dir> static void eval_face(const double* c, const double (*phi)[NB], int g, double* q) {
         for (int v = 0; v < NV; ++v) {
-            double s = 0;
+            double t[NB];
             for (int l = 0; l < NB; ++l)
-                s += c[v * NB + l] * phi[g][l];
-            q[v] = s;
+                t[l] = c[v * NB + l] * phi[g][l];
+            q[v] = B::mode_sum(t);
         }
     }
 
@@ -375,12 +395,12 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 if constexpr (K > 0)
                     for (int v = 0; v < NV; ++v)
                         for (int l = 1; l < NB; ++l) {
-                            double x = 0;
+                            double t[NQV];
                             for (int q = 0; q < NQV; ++q) {
-                                x += F[v][q] * vol_.wdx[l][q];
-                                if constexpr (D == 2) x += G[v][q] * vol_.wdy[l][q];
+                                t[q] = F[v][q] * vol_.wdx[l][q];
+                                if constexpr (D == 2) t[q] += G[v][q] * vol_.wdy[l][q];
                             }
-                            acc[v][l] = x;
+                            acc[v][l] = B::point_sum(t);
                         }
                 if (alpha != 0.0) {
                     // S = −(α/x)(ρu, ρu², ρuv, (E+p)u): the x flux without its pressure term.
@@ -396,28 +416,29 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                                 acc[v][l] += S[v] * tab_.phiv[q][l];
                     }
                 }
+                // Face integrals: the x and y faces summed apart and then added, so that a mirror image about
+                // x = y rounds alike.
                 const double* fl = fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV;
                 const double* fr = fl + NQF * NV;
-                for (int g = 0; g < NQF; ++g) {
-                    const double wf = tab_.wf[g];
-                    for (int v = 0; v < NV; ++v)
-                        for (int l = 0; l < NB; ++l)
-                            acc[v][l] += idx * wf *
-                                         (fl[g * NV + v] * tab_.face[0][0][g][l] -
-                                          fr[g * NV + v] * tab_.face[0][1][g][l]);
-                }
-                if constexpr (D == 2) {
-                    const double* fb = fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
-                    const double* ft = fb + static_cast<long>(nx) * NQF * NV;
-                    for (int g = 0; g < NQF; ++g) {
-                        const double wf = tab_.wf[g];
-                        for (int v = 0; v < NV; ++v)
-                            for (int l = 0; l < NB; ++l)
-                                acc[v][l] += idy * wf *
-                                             (fb[g * NV + v] * tab_.face[1][0][g][l] -
-                                              ft[g * NV + v] * tab_.face[1][1][g][l]);
+                for (int v = 0; v < NV; ++v)
+                    for (int l = 0; l < NB; ++l) {
+                        double t[NQF];
+                        for (int g = 0; g < NQF; ++g)
+                            t[g] = idx * tab_.wf[g] *
+                                   (fl[g * NV + v] * tab_.face[0][0][g][l] -
+                                    fr[g * NV + v] * tab_.face[0][1][g][l]);
+                        double faces = B::face_sum(t);
+                        if constexpr (D == 2) {
+                            const double* fb = fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
+                            const double* ft = fb + static_cast<long>(nx) * NQF * NV;
+                            for (int g = 0; g < NQF; ++g)
+                                t[g] = idy * tab_.wf[g] *
+                                       (fb[g * NV + v] * tab_.face[1][0][g][l] -
+                                        ft[g * NV + v] * tab_.face[1][1][g][l]);
+                            faces += B::face_sum(t);
+                        }
+                        acc[v][l] += faces;
                     }
-                }
                 double* r = cell(rhs_.data(), i, j);
                 for (int v = 0; v < NV; ++v)
                     for (int l = 0; l < NB; ++l)
@@ -512,10 +533,10 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                     const double* n = cell(U, ni, nj);
                     for (int v = 0; v < NV; ++v) {
                         for (int l = 0; l < NB; ++l) {
-                            double s = 0;
+                            double t[NB];
                             for (int m = 0; m < NB; ++m)
-                                s += weno_.shift[nb][l][m] * n[v * NB + m];
-                            cand[1 + nb][v][l] = s;
+                                t[m] = weno_.shift[nb][l][m] * n[v * NB + m];
+                            cand[1 + nb][v][l] = B::mode_sum(t);
                         }
                         cand[1 + nb][v][0] = c[v * NB];
                     }
@@ -534,35 +555,46 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                         double ch[NCAND][NB];
                         for (int k = 0; k < NCAND; ++k)
                             for (int l = 0; l < NB; ++l) {
-                                double s = 0;
+                                double t[NV];
                                 for (int v = 0; v < NV; ++v)
-                                    s += ev.L[m][v] * cand[k][v][l];
-                                ch[k][l] = s;
+                                    t[v] = ev.L[m][v] * cand[k][v][l];
+                                ch[k][l] = variable_sum(t);
                             }
-                        double wsum = 0, wk[NCAND];
+                        double wk[NCAND];
                         for (int k = 0; k < NCAND; ++k) {
                             double beta = 0;
-                            for (int l = 1; l < NB; ++l)
-                                for (int n = 1; n < NB; ++n)
-                                    beta += ch[k][l] * weno_.smooth[l][n] * ch[k][n];
+                            if constexpr (D == 1) {
+                                for (int l = 1; l < NB; ++l)
+                                    for (int n = 1; n < NB; ++n)
+                                        beta += ch[k][l] * weno_.smooth[l][n] * ch[k][n];
+                            } else {
+                                double outer[NB] = {};
+                                for (int l = 1; l < NB; ++l) {
+                                    double inner[NB] = {};
+                                    for (int n = 1; n < NB; ++n)
+                                        inner[n] = weno_.smooth[l][n] * ch[k][n];
+                                    outer[l] = ch[k][l] * B::mode_sum(inner);
+                                }
+                                beta = B::mode_sum(outer);
+                            }
                             const double lin = k == 0 ? g_c : g_nb;
                             wk[k] = lin / ((eps + beta) * (eps + beta));
-                            wsum += wk[k];
                         }
+                        const double wsum = candidate_sum(wk);
                         limited[m][0] = ch[0][0];
                         for (int l = 1; l < NB; ++l) {
-                            double s = 0;
+                            double t[NCAND];
                             for (int k = 0; k < NCAND; ++k)
-                                s += wk[k] * ch[k][l];
-                            limited[m][l] = s / wsum;
+                                t[k] = wk[k] * ch[k][l];
+                            limited[m][l] = candidate_sum(t) / wsum;
                         }
                     }
                     for (int v = 0; v < NV; ++v)
                         for (int l = 0; l < NB; ++l) {
-                            double s = 0;
+                            double t[NV];
                             for (int m = 0; m < NV; ++m)
-                                s += ev.R[v][m] * limited[m][l];
-                            result[v][l] += s / D;
+                                t[m] = ev.R[v][m] * limited[m][l];
+                            result[v][l] += wave_sum(t) / D;
                         }
                 }
                 double* o = cell(out, i, j);
@@ -645,6 +677,29 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         for (int j = 0; j < ny; ++j)
             for (int i = lo_[j]; i < hi_[j]; ++i)
                 if (troubled_flag_[mesh_.index(i, j)]) std::copy_n(cell(out, i, j), NC, cell(U, i, j));
+    }
+
+    // Sums of the WENO limiter in an order that mirror images round alike (see Basis::mode_sum); in index
+    // order in 1D. Over the conserved variables: (ρ + (ρu + ρv)) + E.
+    static double variable_sum(const double (&t)[NV]) {
+        if constexpr (D == 1)
+            return (t[0] + t[1]) + t[2];
+        else
+            return (t[0] + (t[1] + t[2])) + t[3];
+    }
+    // Over the waves (un − a, shear, entropy, un + a): (un − a + un + a) + (shear + entropy).
+    static double wave_sum(const double (&t)[NV]) {
+        if constexpr (D == 1)
+            return (t[0] + t[1]) + t[2];
+        else
+            return (t[0] + t[3]) + (t[1] + t[2]);
+    }
+    // Over the candidates (own, −x, +x, −y, +y): own + ((−x + +x) + (−y + +y)).
+    static double candidate_sum(const double (&t)[1 + 2 * D]) {
+        if constexpr (D == 1)
+            return (t[0] + t[1]) + t[2];
+        else
+            return t[0] + ((t[1] + t[2]) + (t[3] + t[4]));
     }
 
     Eigenvectors<NV> eigenvectors(int dir, double rho, const double* vel, double a) const {
@@ -748,15 +803,13 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 
     // The conserved state of cell c at N points, point-major: Q[v][k] = Σ_l c[v][l] φ_l(point k).
     template <int N> static void at_points(const double* c, const double (&phi)[NB][N], double (&Q)[NV][N]) {
-        for (int v = 0; v < NV; ++v) {
-            for (int k = 0; k < N; ++k)
-                Q[v][k] = 0.0;
-            for (int l = 0; l < NB; ++l) {
-                const double cl = c[v * NB + l];
-                for (int k = 0; k < N; ++k)
-                    Q[v][k] += cl * phi[l][k];
+        for (int v = 0; v < NV; ++v)
+            for (int k = 0; k < N; ++k) {
+                double t[NB];
+                for (int l = 0; l < NB; ++l)
+                    t[l] = c[v * NB + l] * phi[l][k];
+                Q[v][k] = B::mode_sum(t);
             }
-        }
     }
 
     // Calls f(q) with the conserved state at every volume and face quadrature point of cell c.
@@ -764,10 +817,10 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         auto eval = [&](const double* phi) {
             double q[NV];
             for (int v = 0; v < NV; ++v) {
-                double s = 0;
+                double t[NB];
                 for (int l = 0; l < NB; ++l)
-                    s += c[v * NB + l] * phi[l];
-                q[v] = s;
+                    t[l] = c[v * NB + l] * phi[l];
+                q[v] = B::mode_sum(t);
             }
             f(q);
         };
