@@ -21,7 +21,8 @@ inline void hllc_flux(const Eos& eos, const double* UL, double pL, const double*
     const double SL = std::min(unL - aL, unR - aR);
     const double SR = std::max(unL + aL, unR + aR);
     const double mL = rL * (SL - unL), mR = rR * (SR - unR);
-    const double Ss = (pR - pL + unL * mL - unR * mR) / (mL - mR);
+    // Grouped so that the mirror image (left and right swapped, normal velocities negated) gives exactly −S*.
+    const double Ss = ((pR - pL) + (unL * mL - unR * mR)) / (mL - mR);
 
     if (!(Ss > SL && Ss < SR)) {
         // Star speed outside the wave fan (near-vacuum or a very soft cavitating mixture, where the
@@ -42,28 +43,34 @@ inline void hllc_flux(const Eos& eos, const double* UL, double pL, const double*
         euler::flux<NV, Dir>(UL, unL, pL, F);
     } else if (SR <= 0.0) {
         euler::flux<NV, Dir>(UR, unR, pR, F);
-    } else if (Ss >= 0.0) {
-        euler::flux<NV, Dir>(UL, unL, pL, F);
-        const double f = mL / (SL - Ss); // ρ* of the left star state
-        double Us[NV];
-        for (int v = 0; v < NV; ++v)
-            Us[v] = f * UL[v] / rL;
-        Us[0] = f;
-        Us[mn] = f * Ss;
-        Us[E] = f * (UL[E] / rL + (Ss - unL) * (Ss + pL / mL));
-        for (int v = 0; v < NV; ++v)
-            F[v] += SL * (Us[v] - UL[v]);
     } else {
-        euler::flux<NV, Dir>(UR, unR, pR, F);
-        const double f = mR / (SR - Ss);
-        double Us[NV];
-        for (int v = 0; v < NV; ++v)
-            Us[v] = f * UR[v] / rR;
-        Us[0] = f;
-        Us[mn] = f * Ss;
-        Us[E] = f * (UR[E] / rR + (Ss - unR) * (Ss + pR / mR));
-        for (int v = 0; v < NV; ++v)
-            F[v] += SR * (Us[v] - UR[v]);
+        // F*_K = F_K + S_K (U*_K − U_K) of the star state on side K (left: UL, SL, mL).
+        auto star = [&](const double* U, double un, double p, double S, double m, double* out) {
+            euler::flux<NV, Dir>(U, un, p, out);
+            const double r = U[0];
+            const double f = m / (S - Ss); // ρ* of this side's star state
+            double Us[NV];
+            for (int v = 0; v < NV; ++v)
+                Us[v] = f * U[v] / r;
+            Us[0] = f;
+            Us[mn] = f * Ss;
+            Us[E] = f * (U[E] / r + (Ss - un) * (Ss + p / m));
+            for (int v = 0; v < NV; ++v)
+                out[v] += S * (Us[v] - U[v]);
+        };
+        if (Ss > 0.0) {
+            star(UL, unL, pL, SL, mL, F);
+        } else if (Ss < 0.0) {
+            star(UR, unR, pR, SR, mR, F);
+        } else {
+            // S* = 0 (a contact at rest, e.g. a fluid at rest): both star fluxes agree but round differently;
+            // their mean keeps mirror-image faces exact mirror images.
+            double FL[NV], FR[NV];
+            star(UL, unL, pL, SL, mL, FL);
+            star(UR, unR, pR, SR, mR, FR);
+            for (int v = 0; v < NV; ++v)
+                F[v] = 0.5 * (FL[v] + FR[v]);
+        }
     }
 }
 

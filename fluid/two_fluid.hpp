@@ -221,22 +221,33 @@ class TwoFluid final : public FluidSolver {
     // across the interface along the normal (sign +1: towards φ > 0).
     bool across(const Fields& other, int i, int j, const std::array<double, 2>& n, double sign,
                 Primitive& w) const {
-        double wsum = 0, acc[4] = {0, 0, 0, 0}, any = 0, acc_any[4] = {0, 0, 0, 0};
-        for (int b = (D == 2 ? -1 : 0); b <= (D == 2 ? 1 : 0); ++b)
-            for (int a = -1; a <= 1; ++a) {
-                const int ni = i + a, nj = j + b;
-                if ((a == 0 && b == 0) || ni < 0 || ni >= mesh_.nx || nj < 0 || nj >= mesh_.ny) continue;
-                const long k = at(ni, nj);
-                if (!other.known[k]) continue;
-                const double ex = a * mesh_.dx, ey = b * mesh_.dy, len = std::hypot(ex, ey);
-                const double wk = std::max(0.0, sign * (n[0] * ex + n[1] * ey) / len);
-                const double q[4] = {other.rho[k], other.u[k], other.v[k], other.p[k]};
-                for (int c = 0; c < 4; ++c)
-                    acc[c] += wk * q[c], acc_any[c] += q[c];
-                wsum += wk;
-                any += 1;
-            }
+        // Neighbours in pairs of mirror images, (−x, +x), (−y, +y), (−x−y, +x+y), (+x−y, −x+y), summed as
+        // ((e0 + e1) + (e2 + e3)) + ((c0 + c1) + (c2 + c3)): mirror-image cells round alike.
+        constexpr int off[8][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-1, -1}, {1, 1}, {1, -1}, {-1, 1}};
+        double tw[8] = {}, tq[4][8] = {}, tany[4][8] = {};
+        double any = 0;
+        for (int m = 0; m < (D == 2 ? 8 : 2); ++m) {
+            const int a = off[m][0], b = off[m][1];
+            const int ni = i + a, nj = j + b;
+            if (ni < 0 || ni >= mesh_.nx || nj < 0 || nj >= mesh_.ny) continue;
+            const long k = at(ni, nj);
+            if (!other.known[k]) continue;
+            const double ex = a * mesh_.dx, ey = b * mesh_.dy, len = std::hypot(ex, ey);
+            const double wk = std::max(0.0, sign * (n[0] * ex + n[1] * ey) / len);
+            const double q[4] = {other.rho[k], other.u[k], other.v[k], other.p[k]};
+            for (int c = 0; c < 4; ++c)
+                tq[c][m] = wk * q[c], tany[c][m] = q[c];
+            tw[m] = wk;
+            any += 1;
+        }
         if (any == 0) return false;
+        auto sum8 = [](const double* t) {
+            return ((t[0] + t[1]) + (t[2] + t[3])) + ((t[4] + t[5]) + (t[6] + t[7]));
+        };
+        double acc[4], acc_any[4];
+        for (int c = 0; c < 4; ++c)
+            acc[c] = sum8(tq[c]), acc_any[c] = sum8(tany[c]);
+        const double wsum = sum8(tw);
         const double* s = wsum > 1e-12 ? acc : acc_any;
         const double d = wsum > 1e-12 ? wsum : any;
         w = {s[0] / d, s[1] / d, s[2] / d, s[3] / d};
