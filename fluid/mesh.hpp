@@ -15,8 +15,10 @@ struct Mesh {
     int padded_cells() const { return padded_nx() * padded_ny(); }
     // Cell (i, j) with i ∈ [−1, nx], j ∈ [−1, ny] (j = 0 in 1D); −1 and nx, ny are ghosts.
     int index(int i, int j) const { return dim == 2 ? (j + 1) * (nx + 2) + (i + 1) : i + 1; }
-    double xc(int i) const { return x_min + (i + 0.5) * dx; }
-    double yc(int j) const { return dim == 2 ? y_min + (j + 0.5) * dy : 0.0; }
+    // Cell centres measured from the domain's centre, so that mirror-image cells of a domain symmetric
+    // about 0 (or about x = y) get centres that are exact mirror images.
+    double xc(int i) const { return 0.5 * (x_min + x_max) + (i - 0.5 * (nx - 1)) * dx; }
+    double yc(int j) const { return dim == 2 ? 0.5 * (y_min + y_max) + (j - 0.5 * (ny - 1)) * dy : 0.0; }
 };
 
 } // namespace undex::fluid
