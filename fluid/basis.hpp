@@ -31,7 +31,7 @@ template <int D, int K> struct Basis {
 
     // Sums in an order that a mirror image (x = y: ξ ↔ η; an axis: ξ → −ξ or η → −η) maps onto itself up to
     // the commutativity of +, so that mirror-image cells round alike and a symmetric problem stays
-    // symmetric to the last bit. 1D sums run in index order.
+    // symmetric to the last bit.
     // Over the basis functions: ((1 + (ξ + η)) + ξη) + (ξ² + η²).
     template <class T> static double mode_sum(const T& t) {
         if constexpr (D == 1) {
@@ -49,27 +49,26 @@ template <int D, int K> struct Basis {
     // Over the volume points q = i + NQ1·j: centre, edge midpoints, corners, each orbit of the square's
     // symmetries summed in pairs.
     template <class T> static double point_sum(const T& t) {
-        if constexpr (D == 1) {
-            double s = 0;
-            for (int q = 0; q < NQV; ++q)
-                s += t[q];
-            return s;
-        } else if constexpr (NQ1 == 1)
+        if constexpr (D == 1)
+            return segment_sum<NQ1>(t);
+        else if constexpr (NQ1 == 1)
             return t[0];
         else if constexpr (NQ1 == 2)
             return (t[0] + t[3]) + (t[1] + t[2]);
         else
             return (t[4] + ((t[3] + t[5]) + (t[1] + t[7]))) + ((t[0] + t[8]) + (t[2] + t[6]));
     }
-    // Over the points of one face (symmetric about the face centre).
-    template <class T> static double face_sum(const T& t) {
-        if constexpr (NQF == 1)
+    // Over N Gauss points of a segment (symmetric about its centre): the points of a face, and the volume
+    // points in 1D.
+    template <int N, class T> static double segment_sum(const T& t) {
+        if constexpr (N == 1)
             return t[0];
-        else if constexpr (NQF == 2)
+        else if constexpr (N == 2)
             return t[0] + t[1];
         else
             return (t[0] + t[2]) + t[1];
     }
+    template <class T> static double face_sum(const T& t) { return segment_sum<NQF>(t); }
     // Basis function of the mirror image about x = y (ξ ↔ η) and parities under ξ → −ξ, η → −η.
     static constexpr int swap_xy(int l) { return D == 1 ? l : std::array<int, 6>{0, 2, 1, 3, 5, 4}[l]; }
     static constexpr double parity_x(int l) { return px(l) % 2 ? -1.0 : 1.0; }

@@ -67,7 +67,7 @@ template <int D, int K> struct WenoTables {
                     }
                 smooth[l][m] = s;
             }
-        if constexpr (D == 2) symmetrise();
+        symmetrise();
     }
 
   private:
@@ -82,13 +82,14 @@ template <int D, int K> struct WenoTables {
             for (int m = 0; m < NB; ++m)
                 if (B::parity_y(l) * B::parity_y(m) < 0) shift[0][l][m] = 0.0;
         for (int l = 0; l < NB; ++l)
-            for (int m = 0; m < NB; ++m) {
-                shift[1][l][m] = B::parity_x(l) * B::parity_x(m) * shift[0][l][m];
-                shift[2][l][m] = shift[0][sw(l)][sw(m)];
-            }
-        for (int l = 0; l < NB; ++l)
             for (int m = 0; m < NB; ++m)
-                shift[3][l][m] = shift[1][sw(l)][sw(m)];
+                shift[1][l][m] = B::parity_x(l) * B::parity_x(m) * shift[0][l][m];
+        if constexpr (D == 2)
+            for (int l = 0; l < NB; ++l)
+                for (int m = 0; m < NB; ++m) {
+                    shift[2][l][m] = shift[0][sw(l)][sw(m)];
+                    shift[3][l][m] = shift[1][sw(l)][sw(m)];
+                }
         double s[NB][NB];
         for (int l = 0; l < NB; ++l)
             for (int m = 0; m < NB; ++m) {

@@ -87,9 +87,9 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                                 T[a][b][v * NB + l] = wq * q[v] * B::phi(l, xi, eta) / B::norm(l);
                     }
                 if constexpr (D == 1) {
-                    for (int a = 0; a < NP; ++a)
-                        for (int k = 0; k < NC; ++k)
-                            c[k] += T[a][0][k];
+                    for (int k = 0; k < NC; ++k)
+                        for (int a = 0; a < NP / 2; ++a)
+                            c[k] += T[a][0][k] + T[NP - 1 - a][0][k];
                 } else {
                     // Summed by orbits of the square's symmetries, each in pairs (see Basis::mode_sum), so
                     // that mirror-image cells of symmetric data round alike. ā = NP − 1 − a.
@@ -679,25 +679,25 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 if (troubled_flag_[mesh_.index(i, j)]) std::copy_n(cell(out, i, j), NC, cell(U, i, j));
     }
 
-    // Sums of the WENO limiter in an order that mirror images round alike (see Basis::mode_sum); in index
-    // order in 1D. Over the conserved variables: (ρ + (ρu + ρv)) + E.
+    // Sums of the WENO limiter in an order that mirror images round alike (see Basis::mode_sum). Over the
+    // conserved variables: (ρ + (ρu + ρv)) + E.
     static double variable_sum(const double (&t)[NV]) {
         if constexpr (D == 1)
             return (t[0] + t[1]) + t[2];
         else
             return (t[0] + (t[1] + t[2])) + t[3];
     }
-    // Over the waves (un − a, shear, entropy, un + a): (un − a + un + a) + (shear + entropy).
+    // Over the waves (un − a, [shear,] entropy, un + a): (un − a + un + a) + ([shear +] entropy).
     static double wave_sum(const double (&t)[NV]) {
         if constexpr (D == 1)
-            return (t[0] + t[1]) + t[2];
+            return (t[0] + t[2]) + t[1];
         else
             return (t[0] + t[3]) + (t[1] + t[2]);
     }
     // Over the candidates (own, −x, +x, −y, +y): own + ((−x + +x) + (−y + +y)).
     static double candidate_sum(const double (&t)[1 + 2 * D]) {
         if constexpr (D == 1)
-            return (t[0] + t[1]) + t[2];
+            return t[0] + (t[1] + t[2]);
         else
             return t[0] + ((t[1] + t[2]) + (t[3] + t[4]));
     }

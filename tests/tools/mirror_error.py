@@ -17,6 +17,8 @@ PY = [0, 0, 1, 1, 0, 2]
 
 
 def mirror_field(a, m):
+    if a.ndim == 1:  # 1D: "x" flips about the domain centre
+        return a[::-1]
     if m == "diag":
         return a.T
     if m == "x":
@@ -28,6 +30,11 @@ def mirror_field(a, m):
 
 def mirror_coefficients(c, nx, ny, nv, nb, m):
     """c: (cells, nv*nb) -> mirrored coefficients on the same cells, array (ny, nx, nv, nb)."""
+    if nv == 3:  # 1D: (rho, rho u, E), basis 1, ξ, ξ² − 1/3
+        a = c.reshape(nx, nv, nb)
+        out = a[::-1].copy()
+        out[:, 1] *= -1
+        return a, out * np.array([(-1.0) ** l for l in range(nb)])
     a = c.reshape(ny, nx, nv, nb)
     b = mirror_field_4(a, m)
     out = b.copy()
@@ -72,7 +79,7 @@ def main():
     args = ap.parse_args()
     worst = 0.0
     with h5py.File(args.dir.rstrip("/") + "/fluid.h5", "r") as f:
-        nx, ny = int(f.attrs["nx"]), int(f.attrs["ny"])
+        nx, ny = int(f.attrs["nx"]), int(f.attrs.get("ny", 1))
         nv, nb = int(f.attrs["variables"]), int(f.attrs["basis_functions"])
         for g in sorted(f["fields"]):
             grp = f["fields"][g]
