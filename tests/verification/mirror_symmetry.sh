@@ -1,0 +1,43 @@
+#!/bin/bash
+# Symmetric problems stay symmetric: each run's p, ρ and DG coefficients at every output equal their mirror
+# image (tests/tools/mirror_error.py: max-norm difference relative to the largest value).
+#   riemann_2d at 64², degree 2, WENO limiter active, to t = 0.4: mirror about x = y;
+#   free_field_2d (case 4.4, two fluids with a level set) at 64² and 100², to t = 1e-4 (91 and 142 steps):
+#     mirrors about x = 0, y = 0 and x = y (100 cells: dx = 0.02 is not a binary fraction);
+#   cavitation_tube_1d (case 4.2), 400 cells, to t = 1e-4: mirror about x = 0.5.
+# Bound 1e-10 (issue 13); every operator is written so that mirror-image cells round alike, and the runs
+# are exact mirror images today (difference 0), so any operator that breaks the symmetry, even by one
+# rounding, is caught: the WENO limiter amplifies a 1e-16 asymmetry to 1e-2 by t = 0.4 (riemann_2d).
+set -u
+undex=$1
+cases=$2
+tools=$3
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+pass=0 fail=0
+run() { # NAME CASE MIRRORS [--set ...]
+    local name=$1 case=$2 mirrors=$3
+    shift 3
+    if ! "$undex" run "$cases/$case.case" -o "$dir/$name" "$@" >"$dir/$name.log" 2>&1; then
+        cat "$dir/$name.log"
+        echo "FAIL: $name: run failed"
+        fail=$((fail + 1))
+        return
+    fi
+    /usr/bin/python3 "$tools/mirror_error.py" "$dir/$name" --mirrors "$mirrors" --coefficients
+    local worst
+    worst=$(/usr/bin/python3 "$tools/mirror_error.py" "$dir/$name" --mirrors "$mirrors" --coefficients --max)
+    if /usr/bin/python3 -c "import sys; sys.exit(0 if float('$worst') <= 1e-10 else 1)"; then
+        echo "ok: $name: mirror error $worst <= 1e-10"
+        pass=$((pass + 1))
+    else
+        echo "FAIL: $name: mirror error $worst > 1e-10"
+        fail=$((fail + 1))
+    fi
+}
+run riemann_2d riemann_2d diag --set domain.cells_x=64 --set domain.cells_y=64 --set end_time=0.4
+run free_field_64 free_field_2d diag,x,y --set domain.cells_x=64 --set domain.cells_y=64
+run free_field_100 free_field_2d diag,x,y --set domain.cells_x=100 --set domain.cells_y=100
+run cavitation_tube cavitation_tube_1d x
+echo "$pass passed, $fail failed"
+[ $fail -eq 0 ]
