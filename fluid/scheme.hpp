@@ -657,19 +657,19 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                     const Eigenvectors<NV> ev = eigenvectors(dir, w.rho, vel, a);
                     double lim[NV];
                     for (int m = 0; m < NV; ++m) {
-                        double s = 0, f = 0, b = 0;
+                        double s[NV], f[NV], b[NV];
                         for (int v = 0; v < NV; ++v) {
-                            s += ev.L[m][v] * c[v * NB + l];
-                            f += ev.L[m][v] * (hi[v * NB] - c[v * NB]);
-                            b += ev.L[m][v] * (c[v * NB] - lo[v * NB]);
+                            s[v] = ev.L[m][v] * c[v * NB + l];
+                            f[v] = ev.L[m][v] * (hi[v * NB] - c[v * NB]);
+                            b[v] = ev.L[m][v] * (c[v * NB] - lo[v * NB]);
                         }
-                        lim[m] = minmod3(s, f, b);
+                        lim[m] = minmod3(variable_sum(s), variable_sum(f), variable_sum(b));
                     }
                     for (int v = 0; v < NV; ++v) {
-                        double x = 0;
+                        double x[NV];
                         for (int m = 0; m < NV; ++m)
-                            x += ev.R[v][m] * lim[m];
-                        o[v * NB + l] = x;
+                            x[m] = ev.R[v][m] * lim[m];
+                        o[v * NB + l] = wave_sum(x);
                     }
                 }
             }
