@@ -404,17 +404,21 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                         }
                 if (alpha != 0.0) {
                     // S = −(α/x)(ρu, ρu², ρuv, (E+p)u): the x flux without its pressure term.
+                    double S[NV][NQV];
                     for (int q = 0; q < NQV; ++q) {
                         const double x = mesh_.xc(i) + 0.5 * mesh_.dx * tab_.xiv[q];
                         const double f = -alpha / x * tab_.wv[q];
-                        double S[NV];
                         for (int v = 0; v < NV; ++v)
-                            S[v] = f * F[v][q];
-                        S[1] = f * (F[1][q] - P[q]);
-                        for (int v = 0; v < NV; ++v)
-                            for (int l = 0; l < NB; ++l)
-                                acc[v][l] += S[v] * tab_.phiv[q][l];
+                            S[v][q] = f * F[v][q];
+                        S[1][q] = f * (F[1][q] - P[q]);
                     }
+                    for (int v = 0; v < NV; ++v)
+                        for (int l = 0; l < NB; ++l) {
+                            double t[NQV];
+                            for (int q = 0; q < NQV; ++q)
+                                t[q] = S[v][q] * tab_.phiv[q][l];
+                            acc[v][l] += B::point_sum(t); // mirror-symmetric in z (Basis::point_sum)
+                        }
                 }
                 // Face integrals: the x and y faces summed apart and then added, so that a mirror image about
                 // x = y rounds alike.
