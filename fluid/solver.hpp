@@ -33,7 +33,7 @@ struct Settings {
     double cfl = 0.2;
     Indicator indicator = Indicator::Tvb;
     double tvb_m = 10;
-    Limiter limiter = Limiter::Weno;
+    Limiter limiter = Limiter::Minmod;
     double weno_neighbour_weight = 0.001;
     double weno_epsilon = 1e-6;
     bool positivity = true;

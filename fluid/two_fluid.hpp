@@ -28,7 +28,7 @@ namespace undex::fluid {
 enum class GhostMethod { Real, Modified, Original };
 
 struct InterfaceSettings {
-    GhostMethod method = GhostMethod::Real;
+    GhostMethod method = GhostMethod::Modified;
     InterfaceRiemann riemann = InterfaceRiemann::DoubleShock;
     int band_cells = 3;        // ghost cells solved beyond the interface
     int reinit_every = 5;      // steps between reinitialisations of φ (0: never)
