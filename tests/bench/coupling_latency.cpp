@@ -1,20 +1,21 @@
 // Round-trip latency of the coupling library (coupler/participant.hpp) between two processes over real
-// sockets, measured against ZeroMQ's own floor in the same run. Three loops take turns in blocks, so that the
+// sockets, measured against ZeroMQ's own floor in the same run. Five loops take turns in blocks, so that the
 // load of the machine falls on all of them alike:
 //   coupling      the structure offers a step with N interface nodes, the fluid grants it with N
 //                 characteristic states, the structure answers with N pressures, velocities and positions:
 //                 one round trip as a coupled run makes it every step, with no solver work in between;
-//   bare blocking a cppzmq PAIR ping-pong on a socket of the same kind, the ping as many bytes as the Grant
-//                 envelope, the pong as many as the Answer and Offer envelopes together (one frame), each
-//                 side waiting in a blocking receive;
-//   bare spin     the same ping-pong, each side receiving with zmq::recv_flags::dontwait in a loop.
+//   bare loops    a cppzmq PAIR ping-pong on a socket of the same kind carrying the same bytes: the ping as
+//                 many as the Grant envelope, the pong as many as the Answer and the next Offer envelopes,
+//                 either as the protocol sends them (same frames: two frames, Answer then Offer) or as one
+//                 frame (one frame each way, the least ZeroMQ can do with these bytes); each either waiting
+//                 in a blocking receive or receiving with zmq::recv_flags::dontwait in a loop (spin).
 // The fluid side times each round trip (coupling: from the start of receive_offer to the return of exchange;
-// bare: from the send of the ping to the receipt of the pong). After a warm-up of S/10 round trips of each
-// loop, blocks of B = max(1, S/20) round trips of each loop alternate (the order rotates every cycle) until
-// each loop has S timed round trips. Prints one line:
-//   nodes N endpoint-kind ipc|tcp  bytes ping G pong A  coupling median X us p90 Y us  bare blocking
-//   median Z us  bare spin median W us  ratio R
-// with R = X / min(Z, W).
+// bare: from the send of the ping to the receipt of the whole pong). After a warm-up of S/10 round trips of
+// each loop, blocks of B = max(1, S/20) round trips of each loop alternate (the order rotates every cycle)
+// until each loop has S timed round trips. Prints one line (medians; ratio = coupling / the faster of the
+// blocking and the spinning loop):
+//   nodes N endpoint-kind ipc|tcp  bytes Grant G Answer A Offer O  coupling median X us p90 Y us
+//   same frames: blocking Z us spin W us ratio R  one frame each way: blocking Z1 us spin W1 us ratio R1
 // Usage: coupling_latency --nodes N --steps S --endpoint ipc|tcp
 //   ipc: ipc://$TMPDIR/undex-bench-PID.ipc (/tmp without TMPDIR) and the same path with .bare for the bare
 //   loops; tcp: tcp://127.0.0.1 on two free ports. The program forks: the child runs the structure side, the
@@ -87,7 +88,10 @@ Options options(const std::string& endpoint) {
 }
 
 // The loops, in the order of the first cycle.
-enum Loop { coupling, bare_blocking, bare_spin, loops };
+enum Loop { coupling, same_blocking, same_spin, one_blocking, one_spin, loops };
+bool spins(Loop l) {
+    return l == same_spin || l == one_spin;
+}
 
 // The schedule both sides follow: (loop, round trips) blocks, warm-up first; timed says which count.
 struct Block {
@@ -140,9 +144,12 @@ struct StepData {
     }
 };
 
-// The bytes the coupling puts on the socket per round trip, from the envelopes it sends (protobuf, packed
-// doubles) at a step number of 1000: the Grant one way, the Answer and the next Offer the other.
-std::array<size_t, 2> envelope_bytes(const StepData& d) {
+// The bytes of the envelopes the coupling sends each step (protobuf, packed doubles) at a step number of
+// 1000: the Grant, the Answer and the Offer.
+struct Bytes {
+    size_t grant, answer, offer;
+};
+Bytes envelope_bytes(const StepData& d) {
     using undex::coupling::wire::Envelope;
     auto fill = [](auto* field, const std::vector<double>& v) { field->Assign(v.begin(), v.end()); };
     Envelope g, a, o;
@@ -169,27 +176,32 @@ std::array<size_t, 2> envelope_bytes(const StepData& d) {
     fill(om->mutable_x(), d.offer.x);
     fill(om->mutable_y(), d.offer.y);
     fill(om->mutable_velocity(), d.offer.velocity);
-    return {g.ByteSizeLong(), a.ByteSizeLong() + o.ByteSizeLong()};
+    return {g.ByteSizeLong(), a.ByteSizeLong(), o.ByteSizeLong()};
 }
 
-// One side of the bare ping-pong: sends `bytes` from a buffer (cppzmq copies it into a new message, as the
-// coupling serialises into a new frame) and receives the peer's frame, blocking or spinning on dontwait.
+// One side of the bare ping-pong. Each frame is sent from a buffer (cppzmq copies it into a new message,
+// as the coupling serialises into a new frame); a receive blocks or spins on dontwait and checks the size.
 struct Bare {
     zmq::context_t context;
     zmq::socket_t socket{context, zmq::socket_type::pair};
     std::vector<char> out;
     zmq::message_t in;
-    explicit Bare(size_t bytes) : out(bytes, 1) { socket.set(zmq::sockopt::linger, 0); }
-    void send() { socket.send(zmq::buffer(out), zmq::send_flags::none); }
-    void receive(bool spin, size_t expected) {
+    explicit Bare(size_t largest) : out(largest, 1) { socket.set(zmq::sockopt::linger, 0); }
+    void send(size_t bytes) { socket.send(zmq::buffer(out.data(), bytes), zmq::send_flags::none); }
+    void receive(bool spin, size_t bytes) {
         if (spin)
             while (!socket.recv(in, zmq::recv_flags::dontwait)) {
             }
         else
             (void)socket.recv(in, zmq::recv_flags::none);
-        if (in.size() != expected)
+        if (in.size() != bytes)
             throw std::runtime_error("bare loop: a frame of " + std::to_string(in.size()) + " bytes, not " +
-                                     std::to_string(expected));
+                                     std::to_string(bytes));
+    }
+    // The pong: the Answer and the Offer, as two frames or as one.
+    std::vector<size_t> pong(Loop l, const Bytes& b) {
+        if (l == one_blocking || l == one_spin) return {b.answer + b.offer};
+        return {b.answer, b.offer};
     }
 };
 
@@ -197,8 +209,8 @@ struct Bare {
 int run_structure(const std::string& endpoint, const std::string& bare_endpoint, const Args& a) {
     try {
         StepData d(a.nodes);
-        const auto [ping, pong] = envelope_bytes(d);
-        Bare bare(pong);
+        const Bytes bytes = envelope_bytes(d);
+        Bare bare(bytes.answer + bytes.offer);
         bare.socket.connect(bare_endpoint);
         auto link = std::make_unique<StructureParticipant>(options(endpoint), "coupling_latency", "0.1.0");
         link->initialize(d.iface);
@@ -209,8 +221,9 @@ int run_structure(const std::string& endpoint, const std::string& bare_endpoint,
                     if (!link->exchange(d.offer, grant)) throw CouplingError("the fluid side stopped early");
                     link->answer(d.answer);
                 } else {
-                    bare.receive(b.loop == bare_spin, ping);
-                    bare.send();
+                    bare.receive(spins(b.loop), bytes.grant);
+                    for (const size_t f : bare.pong(b.loop, bytes))
+                        bare.send(f);
                 }
             }
         if (link->exchange(d.offer, grant)) throw CouplingError("the fluid side did not stop");
@@ -232,7 +245,7 @@ double median(std::vector<double>& v) {
 // The fluid side on bound sockets: follows the schedule, ends the run, prints the line.
 void run_fluid(FluidParticipant& link, Bare& bare, const Args& a, const std::string& kind) {
     StepData d(a.nodes);
-    const auto [ping, pong] = envelope_bytes(d);
+    const Bytes bytes = envelope_bytes(d);
     link.initialize(2, 0, 1.0);
     Grant& grant = d.grant;
     Offer offer;
@@ -248,21 +261,26 @@ void run_fluid(FluidParticipant& link, Bare& bare, const Args& a, const std::str
                 (void)link.exchange(1e-7, grant);
                 grant.time += grant.dt;
             } else {
-                bare.send();
-                bare.receive(b.loop == bare_spin, pong);
+                bare.send(bytes.grant);
+                for (const size_t f : bare.pong(b.loop, bytes))
+                    bare.receive(spins(b.loop), f);
             }
             const auto end = Clock::now();
             if (b.timed) us[b.loop].push_back(std::chrono::duration<double, std::micro>(end - start).count());
         }
     link.finalize("benchmark done");
-    const double mc = median(us[coupling]), mb = median(us[bare_blocking]), ms = median(us[bare_spin]);
-    const double p90 =
-        us[coupling][(9 * us[coupling].size() + 9) / 10 - 1]; // nearest rank: the ceil(0.9 s)-th smallest
-    char line[320];
+    std::array<double, loops> m;
+    for (int l = 0; l < loops; ++l)
+        m[l] = median(us[l]);
+    const double p90 = us[coupling][(9 * us[coupling].size() + 9) / 10 - 1]; // nearest rank: ceil(0.9 S)-th
+    char line[512];
     std::snprintf(line, sizeof line,
-                  "nodes %ld endpoint-kind %s  bytes ping %zu pong %zu  coupling median %.1f us p90 %.1f us  "
-                  "bare blocking median %.1f us  bare spin median %.1f us  ratio %.2f",
-                  a.nodes, kind.c_str(), ping, pong, mc, p90, mb, ms, mc / std::min(mb, ms));
+                  "nodes %ld endpoint-kind %s  bytes Grant %zu Answer %zu Offer %zu  coupling median %.1f us "
+                  "p90 %.1f us  same frames: blocking %.1f us spin %.1f us ratio %.2f  one frame each way: "
+                  "blocking %.1f us spin %.1f us ratio %.2f",
+                  a.nodes, kind.c_str(), bytes.grant, bytes.answer, bytes.offer, m[coupling], p90,
+                  m[same_blocking], m[same_spin], m[coupling] / std::min(m[same_blocking], m[same_spin]),
+                  m[one_blocking], m[one_spin], m[coupling] / std::min(m[one_blocking], m[one_spin]));
     std::cout << line << std::endl;
 }
 
@@ -273,7 +291,7 @@ int fluid_side(const Args& a, int announce, pid_t child) {
     try {
         const auto endpoints = bind_endpoints(a.endpoint);
         StepData d(a.nodes);
-        Bare bare(envelope_bytes(d)[0]);
+        Bare bare(envelope_bytes(d).grant);
         bare.socket.bind(endpoints[1]);
         if (a.endpoint == "ipc") bare_path = endpoints[1].substr(6);
         link = std::make_unique<FluidParticipant>(options(endpoints[0]), "coupling_latency", "0.1.0");
