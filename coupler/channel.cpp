@@ -202,10 +202,12 @@ Envelope Channel::wait(std::int64_t step, Envelope::BodyCase expected) {
                                     {monitor_.handle(), 0, ZMQ_POLLIN, 0}};
         const auto left = std::chrono::duration_cast<milliseconds>(deadline - Clock::now());
         // Up to 300 µs of polling (yielding the core to any runnable thread) before sleeping: a round trip
-        // takes about 100 µs, and waking a sleeping thread on a virtual machine costs tens of microseconds.
+        // takes about 70 µs, and waking a sleeping thread on a virtual machine costs tens of microseconds.
         // Measured (tests/bench/coupling_latency.sh, README): 1000-node round trips of 104–132 µs against
-        // 145–190 µs without it, and the coupling's share of case 4.3 12.5 % against 18.5 %. A spin without
-        // yielding was slower (it starves ZeroMQ's I/O threads on two cores); 1000 µs gained nothing more.
+        // 145–190 µs without it, and the coupling's share of case 4.3 12.5 % against 18.5 %; again after the
+        // faster checks and sends, on a 2-core machine under a load of 9: 71–74 µs against 82–920 µs. A spin
+        // without yielding (on recv with dontwait, as the bare loop of the benchmark) gave the same medians
+        // with p90 of 0.4–2 ms under load; 1000 µs gained nothing more.
         const auto spin_until = Clock::now() + std::chrono::microseconds(300);
         auto poll = [&](milliseconds t) { return zmq::poll(items, 2, t); };
         while (poll(milliseconds(0)) == 0 && Clock::now() < spin_until)
