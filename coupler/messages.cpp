@@ -40,9 +40,18 @@ std::vector<double> per_node(const R& r, std::size_t nodes, double lo, double hi
     if (static_cast<std::size_t>(r.size()) != nodes)
         refuse(peer, std::to_string(r.size()) + " value(s) of " + what, step,
                "one per interface node expected (" + std::to_string(nodes) + ")");
-    for (int k = 0; k < r.size(); ++k)
-        check_range(r.Get(k), lo, hi, peer, what + " at interface node " + std::to_string(k), step, unit);
-    return to_vector(r);
+    std::vector<double> v = to_vector(r);
+    // One pass without branches (the compiler vectorises it; NaN and ±inf fail it, lo and hi being finite),
+    // and the field's name written only for a value refused: checking each value with its name built cost
+    // more than the whole exchange (31 ms of a 34 ms round trip at 100 000 nodes; 3 µs per 4 000 values
+    // with the name built only on failure but a branch per value).
+    long outside = 0;
+    for (const double x : v)
+        outside += !((x >= lo) & (x <= hi));
+    if (outside)
+        for (std::size_t k = 0; k < nodes; ++k)
+            check_range(v[k], lo, hi, peer, what + " at interface node " + std::to_string(k), step, unit);
+    return v;
 }
 
 // The length of the valid UTF-8 sequence at s[i] (1–4), or 0.
