@@ -2,6 +2,9 @@
 """Stability map of the gas–water interface treatment, in 1D (case 4.1) and 2D (case 4.4 and a bubble near a wall).
 
     /usr/bin/python3 tests/bench/stability_map.py [--build build] [--out out/bench] [--cells 400] [--only 1d|2d]
+                                                  [--degree 1|2]
+
+Degree 2 (the paper's) unless --degree 1 (CFL 0.4 in 2D, the case files' setting; outputs named *_k1.*).
 
 1D, cases/undex_1d.case: sweeps the gas pressure (1e6 … 1e11 Pa) and the gas density (16.3, 163, 1630 kg/m^3:
 density ratios 0.0163 … 1.63 against water), for the real, the modified and the original ghost fluid method,
@@ -16,7 +19,7 @@ of the way to the boundary (strong gas pressures drive the shock out of [0, 1] b
     crash    anything else (a signal, no output) -- there should be none.
 Writes OUT/stability_map.csv and OUT/stability_map.png, and prints a summary table.
 
-2D, cases/free_field_2d.case at 100 x 100 (degree 2, CFL 0.2 as written, one thread): the gas pressure
+2D, cases/free_field_2d.case at 100 x 100 (degree 2 and CFL 0.2, or degree 1 and CFL 0.4; one thread): the gas pressure
 1e8 … 6e9 Pa (density 1630 kg/m^3), for each method and limiter, in two scenes:
     free  the bubble alone, to 1e-4 s; "ok" when the relative L1 of p along the positive x axis against the
           1D cylindrical bubble of the same states (cases/bubble_1d_cylindrical.case, 4000 cells) is at most
@@ -53,8 +56,15 @@ SCENES_2D = {"free": 1e-4, "wall": 6e-4}  # scene: end time
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 
 
-def run(tool, case, cells, p, rho, method, limiter, cfl):
-    sets = {"domain.cells_x": cells, "regions[1].p": p, "regions[1].rho": rho, "interface.method": method,
+CFL_2D = {1: 0.4, 2: 0.2}
+
+
+def suffix(args):
+    return "" if args.degree == 2 else f"_k{args.degree}"
+
+
+def run(tool, case, cells, degree, p, rho, method, limiter, cfl):
+    sets = {"numerics.degree": degree, "domain.cells_x": cells, "regions[1].p": p, "regions[1].rho": rho, "interface.method": method,
             "numerics.limiter": limiter, "numerics.indicator": "none" if limiter == "none" else "tvb",
             "numerics.cfl": cfl, "numerics.threads": 1}
     cmd = [tool, case, "--fit-time"]
@@ -79,14 +89,14 @@ def map_1d(args):
     case = os.path.join(ROOT, "cases", "undex_1d.case")
     rows = []
     combos = list(itertools.product(METHODS, LIMITERS, CFLS, DENSITIES, PRESSURES))
-    path = os.path.join(args.out, "stability_map.csv")
+    path = os.path.join(args.out, f"stability_map{suffix(args)}.csv")
     if args.replot:
         with open(path) as f:
             rows = [dict(r, cfl=float(r["cfl"]), rho_gas=float(r["rho_gas"]), p_gas=float(r["p_gas"]))
                     for r in csv.DictReader(f)]
         combos = []
     for n, (method, limiter, cfl, rho, p) in enumerate(combos, 1):
-        outcome, detail = run(tool, case, args.cells, p, rho, method, limiter, cfl)
+        outcome, detail = run(tool, case, args.cells, args.degree, p, rho, method, limiter, cfl)
         rows.append(dict(method=method, limiter=limiter, cfl=cfl, rho_gas=rho, p_gas=p, outcome=outcome,
                          detail=detail))
         print(f"[{n}/{len(combos)}] {method:12s} limiter {limiter:4s} CFL {cfl:.1f} rho {rho:7.1f} p {p:.0e}: "
@@ -118,9 +128,9 @@ def map_1d(args):
         ax.set_xlabel("gas pressure (Pa)")
     handles = [plt.Rectangle((0, 0), 1, 1, color=colours[o]) for o in OUTCOMES]
     fig.legend(handles, OUTCOMES, loc="lower center", ncol=4)
-    fig.suptitle(f"Case 4.1 stability map ({args.cells} cells, degree 2, Tait water)")
+    fig.suptitle(f"Case 4.1 stability map ({args.cells} cells, degree {args.degree}, Tait water)")
     fig.tight_layout(rect=(0, 0.04, 1, 1))
-    png = os.path.join(args.out, "stability_map.png")
+    png = os.path.join(args.out, f"stability_map{suffix(args)}.png")
     fig.savefig(png, dpi=110)
     print(f"\n{path}\n{png}\n")
     print_table(rows)
@@ -159,12 +169,12 @@ def map_2d(args):
 
     free = os.path.join(ROOT, "cases", "free_field_2d.case")
     # The wall scene: the case as written with a gauge at the wall's centre (--set cannot add list entries).
-    wall = os.path.join(args.out, "map2d", "wall.case")
+    wall = os.path.join(args.out, f"map2d{suffix(args)}", "wall.case")
     os.makedirs(os.path.dirname(wall), exist_ok=True)
     with open(free) as f, open(wall, "w") as g:
         g.write(f.read() + '\ngauges { name: "wall" x: 0.995 y: 0 }\n')
     rows = []
-    path = os.path.join(args.out, "stability_map_2d.csv")
+    path = os.path.join(args.out, f"stability_map_2d{suffix(args)}.csv")
     combos = list(itertools.product(SCENES_2D, PRESSURES_2D, METHODS, LIMITERS))
     if args.replot:
         with open(path) as f:
@@ -174,14 +184,15 @@ def map_2d(args):
     for n, (scene, p, method, limiter) in enumerate(combos, 1):
         end = SCENES_2D[scene]
         if scene == "free" and p not in refs:
-            ref_dir = os.path.join(args.out, "map2d", f"cylindrical_{p:.0e}")
+            ref_dir = os.path.join(args.out, f"map2d{suffix(args)}", f"cylindrical_{p:.0e}")
             rc, line = undex_fluid(args, os.path.join(ROOT, "cases", "bubble_1d_cylindrical.case"),
                                    {"domain.cells_x": 4000, "regions[1].p": p, "numerics.threads": 1}, ref_dir)
             if rc != 0:
                 raise RuntimeError(f"1D cylindrical reference at {p:.0e} Pa: {line}")
             refs[p] = axis_pressure(args, ref_dir, end)
-        d = os.path.join(args.out, "map2d", f"{scene}_{p:.0e}_{method}_{limiter}")
-        sets = {"domain.cells_x": 100, "domain.cells_y": 100, "regions[1].p": p, "interface.method": method,
+        d = os.path.join(args.out, f"map2d{suffix(args)}", f"{scene}_{p:.0e}_{method}_{limiter}")
+        sets = {"numerics.degree": args.degree, "numerics.cfl": CFL_2D[args.degree], "domain.cells_x": 100,
+                "domain.cells_y": 100, "regions[1].p": p, "interface.method": method,
                 "numerics.limiter": limiter, "numerics.indicator": "none" if limiter == "none" else "tvb",
                 "numerics.threads": 1, "end_time": end, "output.times[0]": end, "output.times[1]": end,
                 "output.times[2]": end}
@@ -227,9 +238,9 @@ def map_2d(args):
         ax.set_xlabel("gas pressure (Pa)")
     handles = [plt.Rectangle((0, 0), 1, 1, color=COLOURS[o]) for o in OUTCOMES]
     fig.legend(handles, OUTCOMES, loc="lower center", ncol=4)
-    fig.suptitle("Case 4.4 stability map (100 x 100, degree 2, Tait water)")
+    fig.suptitle(f"Case 4.4 stability map (100 x 100, degree {args.degree}, CFL {CFL_2D[args.degree]}, Tait water)")
     fig.tight_layout(rect=(0, 0.06, 1, 1))
-    png = os.path.join(args.out, "stability_map_2d.png")
+    png = os.path.join(args.out, f"stability_map_2d{suffix(args)}.png")
     fig.savefig(png, dpi=110)
     print(f"\n{path}\n{png}\n")
     for scene in SCENES_2D:
@@ -244,6 +255,7 @@ def main():
     parser.add_argument("--out", default="out/bench")
     parser.add_argument("--cells", type=int, default=400)
     parser.add_argument("--only", choices=["1d", "2d"], default=None)
+    parser.add_argument("--degree", type=int, choices=[1, 2], default=2)
     parser.add_argument("--replot", action="store_true", help="redraw the maps from their CSV files")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
