@@ -219,8 +219,9 @@ Envelope Channel::wait(std::int64_t step, Envelope::BodyCase expected) {
             auto poll = [&](milliseconds t) { return zmq::poll(items, 2, t); };
             const auto left = std::chrono::duration_cast<milliseconds>(deadline - Clock::now());
             // The sleep is cut in slices so that a stop request that came outside the poll (no EINTR) is
-            // seen.
-            poll(std::clamp(left, milliseconds(0), stop_ ? milliseconds(100) : left));
+            // seen. Never negative: a negative timeout makes zmq_poll wait for ever (the deadline may pass
+            // during the spin above).
+            poll(std::max(stop_ ? std::min(left, milliseconds(100)) : left, milliseconds(0)));
             if (items[1].revents & ZMQ_POLLIN) {
                 const auto [event, fd] = read_event(monitor_);
                 on_event(event, fd);
