@@ -8,8 +8,8 @@ real and the modified ghost fluid method, the minmod limiter (degrees 1, 2) and 
 and both water models; error L1(p)/p* against the exact solution of each water model, wall time of the
 time stepping (build/bin/undex_1d_error).
 Case 4.4 (cases/free_field_2d.case), two threads: degrees 1 and 2 on 50², 100², 200², for the real GFM with
-the WENO limiter (the case as written) and the modified GFM with the minmod limiter; error: relative L1 of p
-along the positive x axis against the 1D cylindrical bubble (cases/bubble_1d_cylindrical.case, 5000 cells,
+the WENO limiter (the paper's setting) and the modified GFM with the minmod limiter (the case file's); error:
+relative L1 of p along the positive x axis against the 1D cylindrical bubble (cases/bubble_1d_cylindrical.case, 5000 cells,
 run once and kept in OUT); wall time as reported by undex-fluid (time stepping and output).
 Writes OUT/work_precision_41.csv/.png and OUT/work_precision_44.csv/.png and prints, per water model, the
 cheapest setting that reaches each of a few error levels.
