@@ -115,8 +115,9 @@ void Channel::send(Envelope& e) {
     zmq::message_t frame(e.ByteSizeLong()); // serialised straight into the frame: no extra copy
     e.SerializeWithCachedSizesToArray(static_cast<std::uint8_t*>(frame.data()));
     // The usual case first: ZeroMQ queues the frame at once. Reading the connection events before each send
-    // cost a few microseconds per message (tests/bench/coupling_latency.sh); a peer that is gone is noticed
-    // below when the frame cannot be queued, or by the next wait.
+    // cost a few microseconds per message (tests/bench/coupling_latency.sh). A peer that is gone is noticed
+    // below when the frame cannot be queued; on the connecting side ZeroMQ keeps queueing after the peer
+    // has gone, and the next wait reports it ("closed the connection ... (waiting for ...)").
     try {
         if (socket_.send(frame, zmq::send_flags::dontwait)) return;
     } catch (const zmq::error_t&) {

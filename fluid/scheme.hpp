@@ -450,7 +450,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             }
     }
 
-    // Indicator + WENO + positivity on Uvec; throws SolverFailure for a cell that cannot be made admissible.
+    // Indicator + limiter + positivity on Uvec; throws SolverFailure for a cell that cannot be made
+    // admissible.
     void limit(std::vector<double>& Uvec, double t, const char* stage) {
         double* U = Uvec.data();
         if (K > 0 && set_.limiter != Limiter::None && set_.indicator != Indicator::None) {

@@ -26,7 +26,7 @@ const std::vector<NamedOption>& indicator_names() {
     static const std::vector<NamedOption> names = {
         {"tvb", "TVB minmod indicator on density and energy (threshold numerics.tvb_m)"},
         {"all", "every cell is troubled (limiter everywhere)"},
-        {"none", "no cell is troubled (no WENO limiting)"},
+        {"none", "no cell is troubled (no limiting)"},
     };
     return names;
 }

@@ -90,12 +90,12 @@ def main():
                 for v in args.vars.split(","):
                     a = grp[v][()]
                     mx, l1 = rel(a, mirror_field(a, m))
-                    worst = max(worst, mx)
+                    worst = max(worst, mx) if np.isfinite(mx) else float("inf")  # NaN is no mirror image
                     parts.append(f"{v}: max {mx:.3e} L1 {l1:.3e}")
                 if args.coefficients and nb > 1:
                     a, b = mirror_coefficients(grp["coefficients"][()], nx, ny, nv, nb, m)
                     d = np.abs(a - b).max() / np.abs(a).max()
-                    worst = max(worst, d)
+                    worst = max(worst, d) if np.isfinite(d) else float("inf")
                     parts.append(f"coef: max {d:.3e}")
                 if not args.max:
                     print(f"{g} t={t:.6g} step={step} {m}: " + "  ".join(parts))
