@@ -101,39 +101,51 @@ def map_1d(args):
         print(f"[{n}/{len(combos)}] {method:12s} limiter {limiter:4s} CFL {cfl:.1f} rho {rho:7.1f} p {p:.0e}: "
               f"{outcome:7s} {detail}", flush=True)
     if not args.replot:
-        with open(path, "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-            w.writeheader()
-            w.writerows(rows)
+        write_csv(path, rows)
 
     # Map: one panel per (method, limiter); x: gas pressure, y: CFL × density (grouped rows).
-    colours = COLOURS
     fig, axes = plt.subplots(len(METHODS), len(LIMITERS), figsize=(15, 4 * len(METHODS)), sharex=True,
                              sharey=True)
     ylabels = [f"CFL {c:.1f}, ρ {r:g}" for c in CFLS for r in DENSITIES]
     for ax, (method, limiter) in zip(axes.flat, itertools.product(METHODS, LIMITERS)):
-        for r in rows:
-            if r["method"] != method or r["limiter"] != limiter:
-                continue
-            x = PRESSURES.index(r["p_gas"])
-            y = CFLS.index(r["cfl"]) * len(DENSITIES) + DENSITIES.index(r["rho_gas"])
-            ax.add_patch(plt.Rectangle((x - 0.45, y - 0.45), 0.9, 0.9, color=colours[r["outcome"]]))
-        ax.set_title(f"{method}, limiter {limiter}")
-        ax.set_xlim(-0.5, len(PRESSURES) - 0.5)
-        ax.set_ylim(-0.5, len(ylabels) - 0.5)
-        ax.set_xticks(range(len(PRESSURES)), [f"{p:.0e}" for p in PRESSURES])
-        ax.set_yticks(range(len(ylabels)), ylabels, fontsize=7)
+        cells = [(PRESSURES.index(r["p_gas"]), CFLS.index(r["cfl"]) * len(DENSITIES) + DENSITIES.index(r["rho_gas"]),
+                  r["outcome"]) for r in rows if r["method"] == method and r["limiter"] == limiter]
+        draw_panel(ax, cells, PRESSURES, ylabels, f"{method}, limiter {limiter}", 7)
     for ax in axes[-1]:
         ax.set_xlabel("gas pressure (Pa)")
-    handles = [plt.Rectangle((0, 0), 1, 1, color=colours[o]) for o in OUTCOMES]
-    fig.legend(handles, OUTCOMES, loc="lower center", ncol=4)
-    fig.suptitle(f"Case 4.1 stability map ({args.cells} cells, degree {args.degree}, Tait water)")
-    fig.tight_layout(rect=(0, 0.04, 1, 1))
-    png = os.path.join(args.out, f"stability_map{suffix(args)}.png")
-    fig.savefig(png, dpi=110)
+    png = finish_figure(fig, f"Case 4.1 stability map ({args.cells} cells, degree {args.degree}, Tait water)",
+                        0.04, os.path.join(args.out, f"stability_map{suffix(args)}.png"))
     print(f"\n{path}\n{png}\n")
     print_table(rows)
     return rows
+
+
+def write_csv(path, rows):
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+
+
+def draw_panel(ax, cells, pressures, ylabels, title, fontsize):
+    """One panel of a map: a coloured square per (x, y, outcome), x the gas pressure's index."""
+    for x, y, outcome in cells:
+        ax.add_patch(plt.Rectangle((x - 0.45, y - 0.45), 0.9, 0.9, color=COLOURS[outcome]))
+    ax.set_title(title)
+    ax.set_xlim(-0.5, len(pressures) - 0.5)
+    ax.set_ylim(-0.5, len(ylabels) - 0.5)
+    ax.set_xticks(range(len(pressures)), [f"{p:.0e}" for p in pressures])
+    ax.set_yticks(range(len(ylabels)), ylabels, fontsize=fontsize)
+
+
+def finish_figure(fig, title, legend_height, png):
+    """The outcome legend, the title, and the figure written to png (returned)."""
+    handles = [plt.Rectangle((0, 0), 1, 1, color=COLOURS[o]) for o in OUTCOMES]
+    fig.legend(handles, OUTCOMES, loc="lower center", ncol=4)
+    fig.suptitle(title)
+    fig.tight_layout(rect=(0, legend_height, 1, 1))
+    fig.savefig(png, dpi=110)
+    return png
 
 
 def print_table(rows):
@@ -216,31 +228,16 @@ def map_2d(args):
         print(f"[{n}/{len(combos)}] {scene} p {p:.0e} {method:12s} limiter {limiter:6s}: {outcome:7s} {detail}",
               flush=True)
     if not args.replot:
-        with open(path, "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-            w.writeheader()
-            w.writerows(rows)
+        write_csv(path, rows)
     fig, axes = plt.subplots(1, len(SCENES_2D), figsize=(12, 5), sharey=True)
     ylabels = [f"{m}, {lim}" for m in METHODS for lim in LIMITERS]
     for ax, scene in zip(axes, SCENES_2D):
-        for r in rows:
-            if r["scene"] != scene:
-                continue
-            x = PRESSURES_2D.index(r["p_gas"])
-            y = ylabels.index(f"{r['method']}, {r['limiter']}")
-            ax.add_patch(plt.Rectangle((x - 0.45, y - 0.45), 0.9, 0.9, color=COLOURS[r["outcome"]]))
-        ax.set_title(f"{scene} (to {SCENES_2D[scene]:g} s)")
-        ax.set_xlim(-0.5, len(PRESSURES_2D) - 0.5)
-        ax.set_ylim(-0.5, len(ylabels) - 0.5)
-        ax.set_xticks(range(len(PRESSURES_2D)), [f"{p:.0e}" for p in PRESSURES_2D])
-        ax.set_yticks(range(len(ylabels)), ylabels, fontsize=8)
+        cells = [(PRESSURES_2D.index(r["p_gas"]), ylabels.index(f"{r['method']}, {r['limiter']}"), r["outcome"])
+                 for r in rows if r["scene"] == scene]
+        draw_panel(ax, cells, PRESSURES_2D, ylabels, f"{scene} (to {SCENES_2D[scene]:g} s)", 8)
         ax.set_xlabel("gas pressure (Pa)")
-    handles = [plt.Rectangle((0, 0), 1, 1, color=COLOURS[o]) for o in OUTCOMES]
-    fig.legend(handles, OUTCOMES, loc="lower center", ncol=4)
-    fig.suptitle(f"Case 4.4 stability map (100 x 100, degree {args.degree}, CFL {CFL_2D[args.degree]}, Tait water)")
-    fig.tight_layout(rect=(0, 0.06, 1, 1))
-    png = os.path.join(args.out, f"stability_map_2d{suffix(args)}.png")
-    fig.savefig(png, dpi=110)
+    png = finish_figure(fig, f"Case 4.4 stability map (100 x 100, degree {args.degree}, CFL {CFL_2D[args.degree]}, "
+                        "Tait water)", 0.06, os.path.join(args.out, f"stability_map_2d{suffix(args)}.png"))
     print(f"\n{path}\n{png}\n")
     for scene in SCENES_2D:
         print(f"\n{scene}:")
