@@ -9,7 +9,8 @@ Degree 2 (the paper's) unless --degree 1 (CFL 0.4 in 2D, the case files' setting
 1D, cases/undex_1d.case: sweeps the gas pressure (1e6 … 1e11 Pa) and the gas density (16.3, 163, 1630 kg/m^3:
 density ratios 0.0163 … 1.63 against water), for the real, the modified and the original ghost fluid method,
 with and without the limiter (WENO or minmod on TVB-troubled cells, or none; the positivity scaling stays on),
-at CFL 0.1, 0.2, 0.3, 0.4; degree 2 (or --degree), Tait water, one thread. Each run is classified against the exact solution of its own states
+at CFL 0.1, 0.2, 0.3, 0.4; degree 2 (or --degree), Tait water, one thread. Each run is classified against
+the exact solution of its own states
 (build/bin/undex_1d_error); the run ends at 1e-4 s or earlier, when the fastest exact wave has covered 80 %
 of the way to the boundary (strong gas pressures drive the shock out of [0, 1] before 1e-4 s):
     ok       completed, shock and interface within 5 cells of the exact positions;
@@ -63,7 +64,8 @@ def suffix(args):
 
 
 def run(tool, case, cells, degree, p, rho, method, limiter, cfl):
-    sets = {"numerics.degree": degree, "domain.cells_x": cells, "regions[1].p": p, "regions[1].rho": rho, "interface.method": method,
+    sets = {"numerics.degree": degree, "domain.cells_x": cells, "regions[1].p": p, "regions[1].rho": rho,
+            "interface.method": method,
             "numerics.limiter": limiter, "numerics.indicator": "none" if limiter == "none" else "tvb",
             "numerics.cfl": cfl, "numerics.threads": 1}
     cmd = [tool, case, "--fit-time"]
