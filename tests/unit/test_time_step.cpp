@@ -18,7 +18,7 @@ std::string uniform_case(const std::string& geometry, double u, double v) {
            " materials { name: 'air' stiffened_gas { gamma: 1.4 } }"
            " regions { material: 'air' rho: 1.2 u: " +
            std::to_string(u) + " v: " + std::to_string(v) +
-           " p: 1e5 } numerics { degree: 1 cfl: 0.3 } end_time: 1e-3 output { directory: '/tmp' }";
+           " p: 1e5 } numerics { degree: 1 cfl: 0.3 threads: 1 } end_time: 1e-3 output { directory: '/tmp' }";
 }
 
 } // namespace
