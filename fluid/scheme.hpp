@@ -58,6 +58,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     double time() const override { return time_; }
     long steps() const override { return steps_; }
     long troubled_cells() const override { return troubled_; }
+    long positivity_scaled_cells() const override { return scaled_; }
     bool has_cavitation() const override { return eos_.has_cavitation(); }
     double void_fraction(double p) const override { return eos_.void_fraction(p); }
 
@@ -130,6 +131,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         u0_ = u_;
         stage_ = u_; // cells outside the active rows keep their values through the stages
         troubled_ = 0;
+        scaled_ = 0;
         try {
             // Stage 1: U1 = U + dt L(U)
             compute_rhs(u_, time_);
@@ -289,6 +291,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         return !active_ || (*active_)[mesh_.index(i, j)];
     }
     long troubled_ = 0;
+    long scaled_ = 0; // cells changed by the positivity scaling in this step
 
     double* cell(double* U, int i, int j) const {
         return U + static_cast<long>(mesh_.index(i, j)) * NC;
@@ -735,7 +738,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         std::string bad_what;
         const bool scale = set_.positivity && K > 0;
         const double eps = set_.positivity_epsilon;
-#pragma omp parallel for schedule(static) if (D == 2)
+        long count = 0;
+#pragma omp parallel for reduction(+ : count) schedule(static) if (D == 2)
         for (int j = 0; j < ny; ++j)
             for (int i = lo_[j]; i < hi_[j]; ++i) {
                 if (!active(i, j)) continue;
@@ -783,6 +787,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                         }
                 if (rho_min >= rho_floor && (Eos::barotropic || m_min >= eps * eos_.pressure_margin(p_avg)))
                     continue;
+                ++count;
                 if (rho_min < rho_floor) {
                     const double theta = (avg[0] - rho_floor) / (avg[0] - rho_min);
                     for (int l = 1; l < NB; ++l)
@@ -803,6 +808,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                                 c[v * NB + l] *= theta;
                 }
             }
+        scaled_ += count;
         if (bad_i >= 0) fail_cell(bad_i, bad_j, bad_what, t);
     }
 

@@ -78,6 +78,8 @@ class FluidSolver {
     virtual std::vector<double> totals() const = 0;
     // Number of cells the indicator marked in the last step (all stages).
     virtual long troubled_cells() const = 0;
+    // Number of cells the Zhang–Shu positivity scaling changed in the last step (all stages).
+    virtual long positivity_scaled_cells() const = 0;
     // Primitive state and sound speed at (x, y) from the DG polynomial (the fluid side of an interface).
     virtual double sound_speed(double x, double y) const = 0;
     // The lowest pressure the fluid can hold: the cavitation pressure, or where ρ or p + P∞ reach 0.

@@ -75,6 +75,9 @@ class TwoFluid final : public FluidSolver {
     double time() const override { return minus_.time(); }
     long steps() const override { return minus_.steps(); }
     long troubled_cells() const override { return minus_.troubled_cells() + plus_.troubled_cells(); }
+    long positivity_scaled_cells() const override {
+        return minus_.positivity_scaled_cells() + plus_.positivity_scaled_cells();
+    }
     bool has_cavitation() const override { return minus_.has_cavitation() || plus_.has_cavitation(); }
     double void_fraction(double p) const override {
         return plus_.has_cavitation() ? plus_.void_fraction(p) : minus_.void_fraction(p);

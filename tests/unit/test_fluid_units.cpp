@@ -1,4 +1,5 @@
-// Unit tests of the fluid building blocks: basis, eigenvectors, equations of state, flux, indicator.
+// Unit tests of the fluid building blocks: basis, eigenvectors, equations of state, flux, indicator,
+// limiter weights.
 #include "fluid/basis.hpp"
 #include "fluid/cavitation.hpp"
 #include "fluid/characteristic.hpp"
@@ -8,6 +9,8 @@
 #include "fluid/flux_hllc.hpp"
 #include "fluid/indicator_tvb.hpp"
 #include "fluid/limiter_weno.hpp"
+#include "fluid/scheme.hpp"
+#include "tests/support/exact_riemann.hpp"
 
 #include <gtest/gtest.h>
 
@@ -188,4 +191,314 @@ TEST(Indicator, MinmodFlagsOnlyModifiedSlopes) {
     EXPECT_TRUE(tvb_modifies(0.5, 0.3, 0.2, 0.0));   // steeper than the neighbours
     EXPECT_TRUE(tvb_modifies(0.1, -0.3, 0.2, 0.0));  // extremum
     EXPECT_FALSE(tvb_modifies(0.1, -0.3, 0.2, 0.2)); // below the TVB threshold
+}
+
+namespace {
+
+// An independent HLLC flux for a stiffened gas p = (γ − 1)ρe − γP∞, written from Toro's book ("Riemann
+// Solvers and Numerical Methods for Fluid Dynamics", 3rd ed., eqs. 10.37–10.39 and 10.73) in primitive
+// variables, with the wave speeds given by the caller. Direction x; (ρ, u, v, p) per side; v is carried.
+// Where S* falls outside (S_L, S_R) the code falls back to HLL (fluid/flux_hllc.hpp), and so does this.
+struct Prim {
+    double rho, u, v, p;
+};
+std::array<double, 4> toro_hllc(double gamma, double p_inf, const Prim& L, const Prim& R, double SL,
+                                double SR) {
+    auto energy = [&](const Prim& w) {
+        return (w.p + gamma * p_inf) / (gamma - 1) + 0.5 * w.rho * (w.u * w.u + w.v * w.v);
+    };
+    auto cons = [&](const Prim& w) {
+        return std::array<double, 4>{w.rho, w.rho * w.u, w.rho * w.v, energy(w)};
+    };
+    auto flux = [&](const Prim& w) {
+        const double E = energy(w);
+        return std::array<double, 4>{w.rho * w.u, w.rho * w.u * w.u + w.p, w.rho * w.u * w.v,
+                                     (E + w.p) * w.u};
+    };
+    const double Ss = (R.p - L.p + L.rho * L.u * (SL - L.u) - R.rho * R.u * (SR - R.u)) /
+                      (L.rho * (SL - L.u) - R.rho * (SR - R.u));
+    const auto UL = cons(L), UR = cons(R), FL = flux(L), FR = flux(R);
+    if (SL >= 0) return FL;
+    if (SR <= 0) return FR;
+    std::array<double, 4> F;
+    if (!(Ss > SL && Ss < SR)) {
+        for (int v = 0; v < 4; ++v)
+            F[v] = (SR * FL[v] - SL * FR[v] + SL * SR * (UR[v] - UL[v])) / (SR - SL);
+        return F;
+    }
+    const Prim& K = Ss > 0 ? L : R;
+    const double S = Ss > 0 ? SL : SR;
+    const auto UK = Ss > 0 ? UL : UR, FK = Ss > 0 ? FL : FR;
+    const double f = K.rho * (S - K.u) / (S - Ss);
+    const std::array<double, 4> Us{f, f * Ss, f * K.v,
+                                   f * (UK[3] / K.rho + (Ss - K.u) * (Ss + K.p / (K.rho * (S - K.u))))};
+    for (int v = 0; v < 4; ++v)
+        F[v] = FK[v] + S * (Us[v] - UK[v]);
+    return F;
+}
+
+double sg_sound_speed(double gamma, double p_inf, const Prim& w) {
+    return std::sqrt(gamma * (w.p + p_inf) / w.rho);
+}
+
+} // namespace
+
+// HLLC with Davis's wave-speed estimates S_L = min(u_L − a_L, u_R − a_R), S_R = max(u_L + a_L, u_R + a_R)
+// (each side's own sound speed) for states whose sound speeds differ by 10×, against the independent flux
+// above with the speeds computed here from a² = γ(p + P∞)/ρ. Each pair is chosen so that using the other
+// side's sound speed changes the flux by more than 10 % of its scale (checked below on the reference, so
+// that the test stays sensitive: measured 20–98 %); the code must agree to round-off (1e-12 of the scale
+// of each component, the largest of |F_L|, |F_R| and |F|), in x, in y and in 1D.
+TEST(Flux, HllcMatchesToroWithDavisSpeedsForAsymmetricStates) {
+    struct Pair {
+        const char* name;
+        double gamma, p_inf;
+        Prim L, R;
+    };
+    const Pair pairs[] = {
+        // Ideal gas: dense cold gas (a = 374 m/s) and light hot gas (a = 3742 m/s) moving apart, S* > 0,
+        // and towards each other, S* < 0.
+        {"dense | light, S* > 0", 1.4, 0, {1.0, 0, 20, 1e5}, {0.01, 4000, -5, 1e5}},
+        {"dense | light, S* < 0", 1.4, 0, {1.0, -100, 20, 1e4}, {0.01, -4000, -5, 1e5}},
+        // Stiffened-gas water (γ = 4.4, P∞ = 6e8 Pa): compressed water (a = 2683 m/s) against water near
+        // its pressure floor (a = 210 m/s), colliding, in both orders.
+        {"water | near-floor water", 4.4, 6e8, {1100, 500, 3, 1.2e9}, {1000, -400, 0, -5.9e8}},
+        {"near-floor water | water", 4.4, 6e8, {1000, -300, 3, -5.9e8}, {1100, 300, 0, 1.2e9}},
+    };
+    for (const auto& c : pairs) {
+        const double aL = sg_sound_speed(c.gamma, c.p_inf, c.L), aR = sg_sound_speed(c.gamma, c.p_inf, c.R);
+        const double SL = std::min(c.L.u - aL, c.R.u - aR), SR = std::max(c.L.u + aL, c.R.u + aR);
+        const auto ref = toro_hllc(c.gamma, c.p_inf, c.L, c.R, SL, SR);
+        // Scale of each component: the largest of the physical fluxes of both sides (S ≥ 0 and S ≤ 0
+        // return them) and the reference.
+        const auto FL = toro_hllc(c.gamma, c.p_inf, c.L, c.L, 0, 1),
+                   FR = toro_hllc(c.gamma, c.p_inf, c.R, c.R, 0, 1);
+        double unit[4];
+        for (int v = 0; v < 4; ++v)
+            unit[v] = std::max({std::abs(FL[v]), std::abs(FR[v]), std::abs(ref[v])});
+        // The estimate with the sound speeds swapped must give a clearly different flux.
+        const auto swapped = toro_hllc(c.gamma, c.p_inf, c.L, c.R, std::min(c.L.u - aR, c.R.u - aL),
+                                       std::max(c.L.u + aR, c.R.u + aL));
+        double change = 0;
+        for (int v = 0; v < 4; ++v)
+            change = std::max(change, std::abs(swapped[v] - ref[v]) / unit[v]);
+        EXPECT_GT(change, 0.1) << c.name << ": the pair does not tell the estimates apart";
+        StiffenedGas g{c.gamma, c.p_inf};
+        auto conserved = [&](const Prim& w, double* U) {
+            U[0] = w.rho, U[1] = w.rho * w.u, U[2] = w.rho * w.v;
+            U[3] = g.internal_energy(w.rho, w.p) + 0.5 * w.rho * (w.u * w.u + w.v * w.v);
+        };
+        double UL[4], UR[4], F[4];
+        conserved(c.L, UL);
+        conserved(c.R, UR);
+        hllc_flux<4, 0>(g, UL, c.L.p, UR, c.R.p, F);
+        for (int v = 0; v < 4; ++v)
+            EXPECT_NEAR(F[v], ref[v], 1e-12 * unit[v]) << c.name << ", component " << v;
+        // The same pair in y: normal and tangential components trade places.
+        const double VL[4] = {UL[0], UL[2], UL[1], UL[3]}, VR[4] = {UR[0], UR[2], UR[1], UR[3]};
+        hllc_flux<4, 1>(g, VL, c.L.p, VR, c.R.p, F);
+        const double Fy[4] = {F[0], F[2], F[1], F[3]};
+        for (int v = 0; v < 4; ++v)
+            EXPECT_NEAR(Fy[v], ref[v], 1e-12 * unit[v]) << c.name << " in y, component " << v;
+        // 1D (NV = 3): the same flux without the tangential velocity.
+        const Prim L1{c.L.rho, c.L.u, 0, c.L.p}, R1{c.R.rho, c.R.u, 0, c.R.p};
+        double WL[4], WR[4];
+        conserved(L1, WL);
+        conserved(R1, WR);
+        const double ZL[3] = {WL[0], WL[1], WL[3]}, ZR[3] = {WR[0], WR[1], WR[3]};
+        const auto ref1 = toro_hllc(c.gamma, c.p_inf, L1, R1, SL, SR);
+        hllc_flux<3, 0>(g, ZL, c.L.p, ZR, c.R.p, F);
+        EXPECT_NEAR(F[0], ref1[0], 1e-12 * unit[0]) << c.name << " in 1D";
+        EXPECT_NEAR(F[1], ref1[1], 1e-12 * unit[1]) << c.name << " in 1D";
+        EXPECT_NEAR(F[2], ref1[3], 1e-12 * unit[3]) << c.name << " in 1D";
+    }
+}
+
+// Where every wave of the exact solution moves one way, the exact (Godunov) flux at x/t = 0 is the upwind
+// side's physical flux, and HLLC with the estimates above returns it: dense cold gas (a = 374 m/s,
+// u − a = 126 m/s) followed by light hot gas at half its pressure (a = 2646 m/s, u − a = 1354 m/s), and
+// its mirror image. The exact solution (tests/support/exact_riemann.hpp) confirms that x/t = 0 lies left of
+// every wave (two rarefactions; with a higher right pressure the left wave is a shock slower than u − a,
+// which straddles x/t = 0). With the sound speeds swapped, S_L = 500 − 2646 < 0 and the flux is off by 12 %
+// of its scale.
+TEST(Flux, HllcIsExactWhereAllWavesMoveOneWay) {
+    const exact::Material gas = exact::stiffened_gas(1.4);
+    StiffenedGas g{1.4, 0};
+    for (int side : {1, -1}) {
+        const exact::State dense{1.0, side * 500.0, 1e5}, light{0.01, side * 4000.0, 5e4};
+        const exact::State L = side > 0 ? dense : light, R = side > 0 ? light : dense;
+        const exact::State w = exact::Solution(gas, L, gas, R).sample(0.0);
+        const exact::State& up = side > 0 ? L : R;
+        EXPECT_EQ(w.rho, up.rho) << "x/t = 0 must lie outside the wave fan";
+        const double UL[3] = {L.rho, L.rho * L.u, L.p / 0.4 + 0.5 * L.rho * L.u * L.u};
+        const double UR[3] = {R.rho, R.rho * R.u, R.p / 0.4 + 0.5 * R.rho * R.u * R.u};
+        const double E = w.p / 0.4 + 0.5 * w.rho * w.u * w.u;
+        const double exact_flux[3] = {w.rho * w.u, w.rho * w.u * w.u + w.p, (E + w.p) * w.u};
+        double F[3];
+        hllc_flux<3, 0>(g, UL, L.p, UR, R.p, F);
+        for (int v = 0; v < 3; ++v)
+            EXPECT_NEAR(F[v], exact_flux[v], 1e-12 * std::abs(exact_flux[v])) << "side " << side << ", " << v;
+    }
+}
+
+// An isolated contact between states of very different sound speed (equal p and u) is resolved exactly by
+// HLLC: the flux is the upwind side's physical flux, whatever the wave-speed estimates.
+TEST(Flux, HllcResolvesAnIsolatedContactExactly) {
+    StiffenedGas g{1.4, 0};
+    for (double u : {25.0, -25.0}) {
+        const double p = 1e5, rL = 1.0, rR = 0.01;
+        const double UL[3] = {rL, rL * u, p / 0.4 + 0.5 * rL * u * u};
+        const double UR[3] = {rR, rR * u, p / 0.4 + 0.5 * rR * u * u};
+        const double* U = u > 0 ? UL : UR;
+        double F[3];
+        hllc_flux<3, 0>(g, UL, p, UR, p, F);
+        EXPECT_NEAR(F[0], U[1], 1e-12 * std::abs(U[1]));
+        EXPECT_NEAR(F[1], U[1] * u + p, 1e-12 * p);
+        EXPECT_NEAR(F[2], (U[2] + p) * u, 1e-12 * std::abs((U[2] + p) * u));
+    }
+}
+
+// The smoothness indicator β = Σ_{1≤|α|≤2} ∫_K |K|^{2|α|−1} (D^α p)² dx of the WENO limiter
+// (fluid/limiter_weno.hpp) against its closed form. On the reference cell (ξ = 2(x − x_K)/Δx, square cells
+// in 2D) β is the cell mean of 4 |∇_ξ p|² + 16 Σ_{|α|=2} (∂_ξ^α p)². 1D, p = c1 ξ + c2 (ξ² − 1/3):
+// p_ξ = c1 + 2 c2 ξ has mean square c1² + 4c2²/3, p_ξξ = 2c2, so β = 4c1² + (16/3 + 64) c2².
+// 2D, p = c1 ξ + c2 η + c3 ξη + c4 (ξ² − 1/3) + c5 (η² − 1/3): β = 4c1² + 4c2² + (8/3 + 16) c3²
+// + (16/3 + 64)(c4² + c5²).
+TEST(Weno, SmoothnessIndicatorMatchesItsClosedForm) {
+    const double c[6] = {0.0, 0.7, -0.4, 0.25, -1.3, 0.6};
+    auto beta = [](const auto& smooth, const double* coef, int nb) {
+        double s = 0;
+        for (int l = 1; l < nb; ++l)
+            for (int m = 1; m < nb; ++m)
+                s += coef[l] * smooth[l][m] * coef[m];
+        return s;
+    };
+    const WenoTables<1, 2> w1;
+    const double c1[3] = {0.0, c[1], c[2]};
+    EXPECT_NEAR(beta(w1.smooth, c1, 3), 4 * c[1] * c[1] + (16.0 / 3 + 64) * c[2] * c[2], 1e-9);
+    const WenoTables<2, 2> w2; // 2D order: 1, ξ, η, ξη, ξ² − 1/3, η² − 1/3
+    EXPECT_NEAR(beta(w2.smooth, c, 6),
+                4 * c[1] * c[1] + 4 * c[2] * c[2] + (8.0 / 3 + 16) * c[3] * c[3] +
+                    (16.0 / 3 + 64) * (c[4] * c[4] + c[5] * c[5]),
+                1e-9);
+    // Degree 1: first derivatives only.
+    const WenoTables<1, 1> w11;
+    EXPECT_NEAR(beta(w11.smooth, c1, 2), 4 * c[1] * c[1], 1e-12);
+}
+
+namespace {
+
+// Settings for a single-fluid scheme built directly (no case file).
+Settings unit_settings(Indicator ind, Limiter lim) {
+    Settings s;
+    s.indicator = ind;
+    s.limiter = lim;
+    return s;
+}
+
+Mesh mesh_1d(int n, double x_min, double x_max) {
+    Mesh m;
+    m.dim = 1, m.nx = n, m.x_min = x_min, m.x_max = x_max, m.dx = (x_max - x_min) / n;
+    return m;
+}
+
+} // namespace
+
+// The simple WENO limiter (Zhong and Shu 2013) on one troubled cell, against the weights computed here from
+// their formula: linear weights γ_own = 1 − 2 γ_nb and γ_nb, nonlinear weights w_k = γ_k / (ε + β_k)²
+// normalised, each candidate the neighbour's polynomial extended into the cell with the average replaced by
+// the cell's own. Data: three cells with u = 0, p = 1 and a quadratic density in each, so the variation
+// lies in the entropy wave alone (its characteristic variable is ρ itself at u = 0) and the limiter acts on
+// the density modes as on a scalar. The candidates' smoothness differs by ~100×, so power 1 instead of 2
+// moves the limited slope by about half its size.
+TEST(Weno, LimitedPolynomialMatchesTheWeightsFormula) {
+    Settings set = unit_settings(Indicator::All, Limiter::Weno);
+    set.weno_neighbour_weight = 0.05;
+    set.weno_epsilon = 1e-6;
+    const double gamma = 1.4;
+    const std::array<Boundary, 4> bc{};
+    Scheme<1, 2, StiffenedGas> s(mesh_1d(3, 0, 3), StiffenedGas{gamma, 0}, set, bc);
+    // Density a + b ξ + c (ξ² − 1/3) in cell i; cell 1 is the one checked.
+    const double a[3] = {1.0, 2.0, 3.0}, b[3] = {0.05, 0.3, 0.1}, q[3] = {0.01, 0.2, -0.02};
+    s.project([&](double x, double, double* U) {
+        const int i = std::clamp(static_cast<int>(std::floor(x)), 0, 2);
+        const double xi = 2 * (x - (i + 0.5));
+        U[0] = a[i] + b[i] * xi + q[i] * (xi * xi - 1.0 / 3.0);
+        U[1] = 0;
+        U[2] = 1.0 / (gamma - 1);
+    });
+    // Candidates in cell 1's ξ: the left neighbour's ξ is ξ + 2, so b0 (ξ + 2) + q0 ((ξ + 2)² − 1/3) has
+    // slope b0 + 4 q0 and quadratic q0; the right one's ξ − 2 gives slope b2 − 4 q2.
+    const double slope[3] = {b[1], b[0] + 4 * q[0], b[2] - 4 * q[2]}, quad[3] = {q[1], q[0], q[2]};
+    const double lin[3] = {1 - 2 * 0.05, 0.05, 0.05};
+    double w[3], wsum = 0, ws = 0, wq = 0;
+    for (int k = 0; k < 3; ++k) {
+        const double beta = 4 * slope[k] * slope[k] + (16.0 / 3 + 64) * quad[k] * quad[k]; // see above
+        w[k] = lin[k] / ((1e-6 + beta) * (1e-6 + beta));
+        wsum += w[k], ws += w[k] * slope[k], wq += w[k] * quad[k];
+    }
+    const double want_slope = ws / wsum, want_quad = wq / wsum;
+    const auto c = s.coefficients(); // [cell][variable][basis]
+    const double* c1 = c.data() + 1 * 9;
+    std::printf("weights %.4f %.4f %.4f; slope %.6f (want %.6f), quadratic %.6f (want %.6f)\n", w[0] / wsum,
+                w[1] / wsum, w[2] / wsum, c1[1], want_slope, c1[2], want_quad);
+    EXPECT_NEAR(c1[0], a[1], 1e-14);       // the average is kept
+    EXPECT_NEAR(c1[1], want_slope, 1e-12); // round-off of the characteristic transforms
+    EXPECT_NEAR(c1[2], want_quad, 1e-12);
+    for (int v = 1; v < 3; ++v)
+        for (int l = 1; l < 3; ++l)
+            EXPECT_NEAR(c1[v * 3 + l], 0.0, 1e-12) << "variable " << v << ", mode " << l;
+}
+
+// The TVB indicator's scale-free threshold |ũ| ≤ M (Δx/L)² |ū| (fluid/indicator_tvb.hpp,
+// Scheme::mark_troubled), with L the domain length (here 4, on [−1, 3]): one cell holds ρ̄ + c (ξ² − 1/3)
+// in a uniform state, so the deviation of its face values is (2/3) c and minmod (the neighbour differences
+// vanish) flags it exactly when (2/3) c exceeds the threshold. At 0.8× and 1.25× the formula's threshold,
+// on two meshes 4× apart, it must be left and flagged respectively; a threshold scaling with Δx/L, Δx² or
+// (Δx/L)² with another L is 4× (or more) off on one of them.
+TEST(Indicator, TvbThresholdIsMTimesMeshOverLengthSquared) {
+    const double gamma = 1.4, rho = 2.0, M = 10;
+    for (int n : {16, 64})
+        for (double factor : {0.8, 1.25}) {
+            Settings set = unit_settings(Indicator::Tvb, Limiter::Minmod);
+            set.tvb_m = M;
+            const std::array<Boundary, 4> bc{};
+            const Mesh mesh = mesh_1d(n, -1, 3);
+            Scheme<1, 2, StiffenedGas> s(mesh, StiffenedGas{gamma, 0}, set, bc);
+            const double threshold = M * (mesh.dx / 4) * (mesh.dx / 4) * rho;
+            const double c = 1.5 * factor * threshold;
+            const int bump = n / 3;
+            s.project([&](double x, double, double* U) {
+                const int i = static_cast<int>(std::floor((x + 1) / mesh.dx));
+                const double xi = 2 * (x - mesh.xc(i)) / mesh.dx;
+                U[0] = rho + (i == bump ? c * (xi * xi - 1.0 / 3.0) : 0.0);
+                U[1] = 0;
+                U[2] = 1.0 / (gamma - 1);
+            });
+            EXPECT_EQ(s.troubled_cells(), factor > 1 ? 1 : 0) << n << " cells, " << factor << "× threshold";
+        }
+}
+
+// The same in y on a 2D mesh whose x and y lengths and spacings differ (L_x = 1, Δx = 1/4; L_y = 4,
+// Δy = 1/4): the y threshold is M (Δy/L_y)² |ū| = M/256 |ū|, 16× below the x one.
+TEST(Indicator, TvbThresholdUsesTheLengthOfItsDirection) {
+    const double gamma = 1.4, rho = 2.0, M = 10;
+    Mesh mesh;
+    mesh.dim = 2, mesh.nx = 4, mesh.ny = 16, mesh.x_min = 0, mesh.x_max = 1, mesh.y_min = 0, mesh.y_max = 4;
+    mesh.dx = 0.25, mesh.dy = 0.25;
+    for (double factor : {0.8, 1.25}) {
+        Settings set = unit_settings(Indicator::Tvb, Limiter::Minmod);
+        set.tvb_m = M;
+        const std::array<Boundary, 4> bc{};
+        Scheme<2, 2, StiffenedGas> s(mesh, StiffenedGas{gamma, 0}, set, bc);
+        const double c = 1.5 * factor * M * (0.25 / 4) * (0.25 / 4) * rho;
+        s.project([&](double x, double y, double* U) {
+            const int i = static_cast<int>(std::floor(x / 0.25)), j = static_cast<int>(std::floor(y / 0.25));
+            const double eta = 2 * (y - mesh.yc(j)) / 0.25;
+            U[0] = rho + (i == 2 && j == 7 ? c * (eta * eta - 1.0 / 3.0) : 0.0);
+            U[1] = U[2] = 0;
+            U[3] = 1.0 / (gamma - 1);
+        });
+        EXPECT_EQ(s.troubled_cells(), factor > 1 ? 1 : 0) << factor << "× threshold";
+    }
 }
