@@ -183,13 +183,12 @@ double relative_l1(const fluid::FluidSolver& a, const fluid::FluidSolver& b, dou
 // at 1000 cells, whose Δx is 10 times finer than 200² and serves as the reference (the paper uses 5000
 // cells; measured, the 1000-cell run differs from the 5000-cell one by 0.055 % in the first norm). The
 // reference runs through this code's 1D cylindrical path (its geometric source is checked against an exact
-// radial flow in test_convergence, SourceFlowOrder), so this test checks the 2D planar scheme, the 2D level
-// set and ghost fluid against it. Norms: relative L1 along the positive x axis, ∫|q − q_ref| / ∫|q_ref| over
-// 0 ≤ x ≤ 1, for p also weighted by r and along the diagonal x = y (which the
-// x axis alone would not see: a level set or ghost band wrong in y only). Bounds about 1.5 times the values
-// measured (written next to each), as written (modified GFM, minmod) at 100² and 200², and with the paper's
-// setting (real GFM, WENO, degree 2) at 100²; the difference must fall under refinement by at least 1.4
-// (measured 1.87).
+// radial flow in test_convergence, SourceFlowOrder), so this test checks the 2D planar scheme, level set and
+// ghost fluid against it. Norms: relative L1 along the positive x axis, ∫|q − q_ref| / ∫|q_ref| over
+// 0 ≤ x ≤ 1, for p also weighted by r and along the diagonal x = y (which the x axis alone would not see: a
+// level set or ghost band wrong in y only). Bounds about 1.5 times the values measured (written next to
+// each), as written (modified GFM, minmod) at 100² and 200², and with the paper's setting (real GFM, WENO,
+// degree 2) at 100²; the difference must fall under refinement by at least 1.4 (measured 1.87).
 TEST(FreeField2d, AlongTheAxisAgreesWith1DCylindricalBubble) {
     auto ref = fluid::make_solver(CaseFile::load(UNDEX_CASES "/bubble_1d_cylindrical.case",
                                                  {"domain.cells_x=1000", "numerics.threads=1"}));
