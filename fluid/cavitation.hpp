@@ -74,11 +74,13 @@ struct CavitationModel {
         const double liquid = liquid_ratio(p, 1.0 / gamma_w);     // (p̄/p̄_cav)^(1/γw)
         const double vapour = std::pow(p / p_cav, 1.0 / gamma_g); // (p/p_cav)^(1/γg)
         const double ratio = k * liquid / vapour;
-        const double alpha = ratio / (1.0 + ratio);
+        // α and 1 − α each from the ratio: 1 − α by subtraction loses all its digits as α → 1 (p → 0), where
+        // (1 − α) ρl is still comparable with α ρg.
+        const double alpha = ratio / (1.0 + ratio), liquid_fraction = 1.0 / (1.0 + ratio);
         const double rho_g = rho_g_cav * vapour;
         const double rho_l = rho_l_cav * liquid;
-        const double rho_m = alpha * rho_g + (1.0 - alpha) * rho_l;
-        const double inv_a2 = rho_m * (alpha / (gamma_g * p) + (1.0 - alpha) / (gamma_w * pbar));
+        const double rho_m = alpha * rho_g + liquid_fraction * rho_l;
+        const double inv_a2 = rho_m * (alpha / (gamma_g * p) + liquid_fraction / (gamma_w * pbar));
         return 1.0 / std::sqrt(inv_a2);
     }
 
