@@ -16,7 +16,11 @@ import os
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from checks import coupled_steps, requested_times  # noqa: E402
+
 BIN, CASES, WORK = sys.argv[1:4]
+END = 2.5e-3  # the sweep's end time; it writes an output every END / 5
 PINS = {  # (support, p_m): core strain at 175 cells
     ("unsupported", 5e6): 0.010524,
     ("unsupported", 1e7): 0.042715,
@@ -29,7 +33,7 @@ TOL = 0.01
 
 script = os.path.join(CASES, "plot_sandwich_shock.py")
 r = subprocess.run(["/usr/bin/python3", script, "--sweep", WORK, "--bin", BIN, "--case",
-                    os.path.join(CASES, "sandwich_shock_1d.case"), "--p-m", "5e6,1e7,2e7", "--end-time", "2.5e-3",
+                    os.path.join(CASES, "sandwich_shock_1d.case"), "--p-m", "5e6,1e7,2e7", "--end-time", repr(END),
                     "--cells", "175", "--jobs", "2"])
 if r.returncode != 0:
     sys.exit(f"the sweep failed ({r.returncode})")
@@ -49,6 +53,14 @@ for key, pin in PINS.items():
     print(f"{key[0]:>11} p_m {key[1]:7.3g}  core strain {got:.6f}  pinned {pin:.6f}  ({rel:.2%})")
     if not rel <= TOL:
         failures.append(f"{key}: core strain {got:.6f} is {rel:.2%} from the pinned {pin:.6f} (tolerance {TOL:.0%})")
+# The time-step rule and the output times of every run, from both sides' records (here the structure's step,
+# set by the foam's lock-up modulus, limits every step).
+for support in ("unsupported", "supported"):
+    for p in (5e6, 1e7, 2e7):
+        out = os.path.join(WORK, f"{support}_{p:.3g}")
+        problems, steps = coupled_steps(out, os.path.join(out, "solid.h5"), END, requested_times(END, END / 5))
+        print(f"{support:>11} p_m {p:7.3g}  time steps {'ok' if not problems else 'NO'}: {steps}")
+        failures.extend(f"{support} p_m {p:g}: {x}" for x in problems)
 if failures:
     print("\n".join(failures))
     sys.exit(1)
