@@ -60,7 +60,8 @@ def coupled_steps(out_dir, structure, end_time, requested, complete=True):
     the output times. Returns a list of problems (empty when all hold) and a one-line summary.
 
     out_dir/fluid.h5 /interface holds per step t, dt, the fluid's own stable step dt_f and the offer dt_s it
-    received; `structure` (solid.h5 or a CSV) holds t, dt and the dt_s it offered. Checked:
+    received; `structure` (solid.h5 or a CSV) holds t, dt and the dt_s it offered (None: a structure that keeps
+    no record, e.g. tests/coupling/bad_peer.py; then only the fluid's record is checked). Checked:
     - both sides took the same steps: t and dt bitwise equal, and the offer received bitwise the offer made;
     - Δt = min(Δt_f, Δt_s) bitwise at every step, except a step shortened to end on a requested output time
       (then Δt < min(Δt_f, Δt_s) and t + Δt is that time within 1e-12 · end_time);
@@ -77,7 +78,7 @@ def coupled_steps(out_dir, structure, end_time, requested, complete=True):
     with h5py.File(os.path.join(out_dir, "fluid.h5"), "r") as f:
         i = f["interface"]
         t, dt, dt_f, dt_s = i["t"][:], i["dt"][:], i["dt_f"][:], i["dt_s"][:]
-    ts, dts, offered = _structure_record(structure)
+    ts, dts, offered = _structure_record(structure) if structure else (t, dt, dt_s)
     n = min(len(t), len(ts))
     if complete and len(t) != len(ts):
         problems.append(f"the fluid recorded {len(t)} steps, the structure {len(ts)}")
@@ -109,7 +110,7 @@ def coupled_steps(out_dir, structure, end_time, requested, complete=True):
     if abs(ends[-1] - end_time) > tol:
         problems.append(f"the last step ends at {ends[-1]!r} s, not at end_time {end_time!r} s")
     files = [os.path.join(out_dir, "fluid.h5")]
-    if structure.endswith(".h5"):
+    if structure and structure.endswith(".h5"):
         files.append(structure)
     for path in files:
         with h5py.File(path, "r") as f:
