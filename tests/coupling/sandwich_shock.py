@@ -17,9 +17,10 @@ plate): the wet face (m_f = 96 kg/m²) takes Taylor's impulse I_t = I0 ψ^(ψ/(1
 σ_pl = 1.5 MPa until the unsupported sandwich (m_f + m_c + m_b = 197.9 kg/m²) moves as one, dissipating
 W = ½ m_f v0² − ½ (m_f v0)² / (m_f + m_c + m_b), so the core strain is W / (σ_pl H_c), H_c = 25 mm. It
 leaves out the core's elastic and over-stress share, the water's load after cavitation and the faces'
-elasticity; measured against it: −2.6 %, −1.2 %, −7.9 % at p_m = 5, 10, 20 MPa (the over-stress grows with
-the crushing rate). Bounds 1.5 times those, both ways. (The supported plate keeps taking load from the water
-after the wet face stops, which stage 2 does not model: no estimate for it.)
+elasticity; measured against it: −2.6 %, −1.2 %, −7.9 % at p_m = 5, 10, 20 MPa. The run must lie below the
+estimate (the over-stress the estimate leaves out resists the crushing, more so at higher crushing rates),
+by between 1/1.5 and 1.5 times the measured difference. (The supported plate keeps taking load from the
+water after the wet face stops, which stage 2 does not model: no estimate for it.)
 
     sandwich_shock.py BIN_DIR CASES_DIR WORK_DIR
 """
@@ -43,9 +44,9 @@ PINS = {  # (support, p_m): core strain at 175 cells, the value measured (0.00 %
     ("supported", 2e7): 0.629600,
 }
 TOL = 0.01
-# Fleck–Deshpande / Taylor estimate of the unsupported core strain (docstring): p_m -> (bound on the relative
-# difference, the measured one).
-ESTIMATE_BOUND = {5e6: (0.039, -0.0262), 1e7: (0.018, -0.0118), 2e7: (0.119, -0.0792)}
+# Fleck–Deshpande / Taylor estimate of the unsupported core strain (docstring): p_m -> the relative difference
+# measured; the bounds are 1.5 times it and 1/1.5 of it.
+ESTIMATE_MEASURED = {5e6: -0.0262, 1e7: -0.0118, 2e7: -0.0792}
 
 
 def fleck_deshpande(p_m):
@@ -75,13 +76,15 @@ for support in ("unsupported", "supported"):
 for p in (5e6, 1e7, 2e7):
     if not strain[("supported", p)] > strain[("unsupported", p)]:
         failures.append(f"p_m {p:g}: the supported core crushes less than the unsupported one")
-for p, (bound, measured) in ESTIMATE_BOUND.items():
+for p, measured in ESTIMATE_MEASURED.items():
     est = fleck_deshpande(p)
     rel = strain[("unsupported", p)] / est - 1
-    print(f"unsupported p_m {p:7.3g}  core strain against Fleck-Deshpande {est:.6f}: {rel:+.2%} (bound {bound:.1%}, "
-          f"measured {measured:+.2%})")
-    if not abs(rel) <= bound:
-        failures.append(f"unsupported p_m {p:g}: core strain {rel:+.2%} from the estimate {est:.6f} (bound {bound:.1%})")
+    lo, hi = 1.5 * measured, measured / 1.5
+    print(f"unsupported p_m {p:7.3g}  core strain against Fleck-Deshpande {est:.6f}: {rel:+.2%} (bounds {lo:+.2%} "
+          f"to {hi:+.2%}, measured {measured:+.2%})")
+    if not lo <= rel <= hi:
+        failures.append(f"unsupported p_m {p:g}: core strain {rel:+.2%} from the estimate {est:.6f} (bounds {lo:+.2%} "
+                        f"to {hi:+.2%})")
 for key, pin in PINS.items():
     got = strain[key]
     rel = abs(got - pin) / pin
