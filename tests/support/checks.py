@@ -85,7 +85,7 @@ def coupled_steps(out_dir, structure, end_time, requested, complete=True):
     if n == 0:
         return problems + ["no coupled step recorded"], "no steps"
     bits = lambda a: a[:n].view(np.uint64)  # noqa: E731
-    for name, a, b in (("t", t, ts), ("dt", dt, dts), ("dt_s (offered, received)", offered, dt_s)):
+    for name, a, b in (("t", t, ts), ("dt", dt, dts), ("dt_s (received, offered)", dt_s, offered)):
         k = np.nonzero(bits(a) != bits(b))[0]
         if len(k):
             problems.append(f"step {k[0] + 1}: {name} differs between the structure ({b[k[0]]!r}) and the fluid "
@@ -101,7 +101,8 @@ def coupled_steps(out_dir, structure, end_time, requested, complete=True):
                         f"{offered[k]!r}) and does not end on an output time ({len(bad)} steps)")
     gaps = np.abs(np.diff(t) - dt[:-1])
     if abs(t[0]) > tol or (len(gaps) and np.max(gaps) > tol):
-        problems.append(f"the step times do not start at 0 and advance by dt (largest gap {np.max(gaps, initial=0):.3g} s)")
+        problems.append(f"the step times do not start at 0 and advance by dt (t[0] = {t[0]!r} s, largest gap "
+                        f"{np.max(gaps, initial=0):.3g} s)")
     clipped = int(np.count_nonzero(dt < lim))
     summary = (f"{n} steps, {int(np.count_nonzero(dt_f < offered))} limited by dt_f and "
                f"{int(np.count_nonzero(offered < dt_f))} by dt_s, {clipped} shortened to an output time")
