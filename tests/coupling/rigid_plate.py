@@ -91,7 +91,8 @@ def main():
                 return 0
             g = g.grant
             dt = g.dt
-            if not (0 < dt <= offered) or len(g.p_L) != 1 or len(g.u_L) != 1 or len(g.Z_L) != 1 or len(g.geometric) != 1:
+            one_each = len(g.p_L) == len(g.u_L) == len(g.Z_L) == len(g.geometric) == 1
+            if not (0 < dt <= offered) or not one_each:
                 raise RuntimeError(f"the fluid solver sent a Grant at step {step} with dt = {dt} (offered {offered}) "
                                    "or not one value per interface node")
             # Central differences: m (v_new - v) = h (F + p_I), h the mean of the last two steps (half a step
