@@ -79,7 +79,7 @@ class FluidRun : public Run {
             throw RunFailure(exit_coupling_failed, "the structure solver stopped the run at step " +
                                                        std::to_string((*link_)->step()) + ": " +
                                                        (*link_)->stop_reason());
-        double dt = solver_->stable_dt();
+        double dt = dt_f_ = solver_->stable_dt();
         if (link_) dt = std::min(dt, offer_.dt);
         const Step s = clock.clip(time(), dt);
         if (!link_ || !clock.admissible(s)) return s; // the driver refuses a step that collapsed
@@ -139,8 +139,12 @@ class FluidRun : public Run {
     Output out_;
     coupling::Offer offer_;
     double dt_ = 0;            // the step agreed with the structure
+    double dt_f_ = 0;          // the fluid's own stable step Δt_f of the step being agreed
     double coupling_wall_ = 0; // inside the coupling library: waiting for and exchanging with the structure
-    std::vector<double> history_; // t, dt, p_L, u_L, Z_L, p_I, u_I, displacement per step
+    // t, dt, p_L, u_L, Z_L, p_I, u_I, displacement, dt_f, dt_s per step (dt_f the fluid's own stable step,
+    // dt_s the structure's offer: the tests check dt = min(dt_f, dt_s) unless the step ends on an output
+    // time).
+    std::vector<double> history_;
 
     // Grants the step s with the fluid's characteristic state at the interface (the DG trace of the last
     // cell) and applies the structure's answer; dt_ becomes min(Δt_f, Δt_s), the step both sides take.
@@ -161,11 +165,12 @@ class FluidRun : public Run {
         dt_ = g.dt;
         solver_->set_structure_state(ans.p_I[0], ans.u_I[0]);
         history_.insert(history_.end(), {solver_->time(), dt_, w.p, w.u, g.Z_L[0], ans.p_I[0], ans.u_I[0],
-                                         ans.x[0] - link_->x0_I()});
+                                         ans.x[0] - link_->x0_I(), dt_f_, offer_.dt});
     }
     void write_history() {
         if (link_)
-            out_.write_table("interface", {"t", "dt", "p_L", "u_L", "Z_L", "p_I", "u_I", "displacement"},
+            out_.write_table("interface",
+                             {"t", "dt", "p_L", "u_L", "Z_L", "p_I", "u_I", "displacement", "dt_f", "dt_s"},
                              history_);
     }
 };

@@ -5,8 +5,8 @@
 // central differences with the interface condition of physics.md §5 solved together with the plate's
 // equation of motion (interface_node.hpp); the dashpot uses the velocity of the last half step.
 // Output <dir>/solid.h5: datasets case, status (as in fluid.h5); /gauges/plate with t, u, v, p_I (columns
-// attribute of /gauges), so `undex gauges DIR/solid.h5` prints it; /coupling with t, dt, p_I, u_I of every
-// step.
+// attribute of /gauges), so `undex gauges DIR/solid.h5` prints it; /coupling with t, dt, p_I, u_I and the
+// step offered dt_s of every step.
 #include "solid/rigid.hpp"
 
 #include "base/case_file.hpp"
@@ -34,10 +34,10 @@ class RigidOutput {
         g.close();
         file_.flush();
     }
-    std::vector<double> plate, coupling; // rows t, u, v, p_I and t, dt, p_I, u_I
+    std::vector<double> plate, coupling; // rows t, u, v, p_I and t, dt, p_I, u_I, dt_s
     void write() {
         h5::write_table(file_.id(), "gauges/plate", {"t", "u", "v", "p_I"}, plate);
-        file_.write_table("coupling", {"t", "dt", "p_I", "u_I"}, coupling);
+        file_.write_table("coupling", {"t", "dt", "p_I", "u_I", "dt_s"}, coupling);
     }
     void complete() { file_.complete(); }
     void fail(const std::string& why) {
@@ -72,7 +72,7 @@ class RigidRun : public Run {
         v_ = w.u_I;
         x_ += s.dt * v_;
         link_->answer({{w.p_I}, {w.u_I}, {x_}, {0.0}});
-        out_.coupling.insert(out_.coupling.end(), {t_, s.dt, w.p_I, w.u_I});
+        out_.coupling.insert(out_.coupling.end(), {t_, s.dt, w.p_I, w.u_I, m_.dt});
         t_ += s.dt;
         last_dt_ = s.dt;
         ++n_;

@@ -209,6 +209,7 @@ class StructureRun : public Run {
 
     void advance(const Step& s) override {
         std::vector<InterfaceSolution> wet;
+        const double t = s_.time(); // recorded as it was, bit for bit the Grant's time
         try {
             wet = s_.step(s.dt, fluid_); // on failure the model is left at its last good state
         } catch (const StructureFailure& f) {
@@ -218,7 +219,7 @@ class StructureRun : public Run {
         coupling::Answer a;
         for (size_t k = 0; k < wet.size(); ++k) {
             a.p_I.push_back(wet[k].p_I), a.u_I.push_back(wet[k].u_I);
-            history_.insert(history_.end(), {s_.time() - s.dt, s.dt, wet[k].p_I, wet[k].u_I});
+            history_.insert(history_.end(), {t, s.dt, wet[k].p_I, wet[k].u_I, m_.dt});
         }
         for (const WetNode& n : s_.wet_nodes())
             a.x.push_back(n.x), a.y.push_back(n.y);
@@ -264,9 +265,9 @@ class StructureRun : public Run {
     StructureOutput out_;
     coupling::Grant grant_;
     std::vector<FluidCharacteristic> fluid_; // at each wet node, for the step granted
-    std::vector<double> history_;            // t, dt, p_I, u_I per coupled step and wet node
+    std::vector<double> history_;            // t, dt, p_I, u_I, dt_s per coupled step and wet node
     void write_history() {
-        if (link_) out_.file().write_table("coupling", {"t", "dt", "p_I", "u_I"}, history_);
+        if (link_) out_.file().write_table("coupling", {"t", "dt", "p_I", "u_I", "dt_s"}, history_);
     }
 };
 

@@ -27,8 +27,8 @@ namespace undex::solid {
 //   /gauges/NAME    1D: t, u, v, a (nearest node), stress_xx, peeq (element containing the point);
 //                   2D: t, u_x, u_y, v_x, v_y, a_x, a_y, stress_xx, stress_yy, stress_zz, stress_xy, peeq;
 //                   the attribute columns of /gauges lists them
-//   /coupling       t, dt, p_I, u_I of every step and wet node of a run coupled to a fluid (a FLUID face)
-//                   through the endpoint couple (the fluid binds it; docs/protocol.md)
+//   /coupling       t, dt, p_I, u_I, dt_s (the step offered) of every step and wet node of a run coupled to a
+//                   fluid (a FLUID face) through the endpoint couple (the fluid binds it; docs/protocol.md)
 // Returns an exit status of base/exit_status.hpp (after a failure, with the last good state written).
 int run_structure(const CaseFile& c, std::ostream& log, const std::string& couple = "");
 

@@ -19,7 +19,7 @@ import time
 
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from checks import check, finish, status_of  # noqa: E402
+from checks import check, coupled_steps, finish, requested_times, status_of  # noqa: E402
 
 BIN, CASES, PYDIR, WORK = [os.path.abspath(p) for p in sys.argv[1:5]]
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -128,6 +128,11 @@ def kill_mid_run(victim, source, name):
           f"SIGKILL {victim} mid-run: {other} stops in {took:.1f} s naming the peer and step; "
           f"{other}.h5 '{st_other[:40]}...', killed side's file '{st_victim[:20]}'",
           text[-1500:] + other_log[-800:])
+    # The steps both sides recorded (the killed side's up to its last output) keep the time-step rule.
+    end = float(re.search(r"^end_time:\s*(\S+)", open(path).read(), flags=re.M).group(1))
+    problems, steps = coupled_steps(out, os.path.join(out, "solid.h5"), end, requested_times(end, 1e-4),
+                                    complete=False)
+    check(not problems, f"SIGKILL {victim}: time steps from both records ({steps})", "\n".join(problems))
 
 
 kill_mid_run("undex-rigid", "taylor_plate_1d.case", "kill_structure")

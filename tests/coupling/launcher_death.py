@@ -24,11 +24,18 @@ import time
 import h5py
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from checks import check, finish  # noqa: E402
+from checks import check, coupled_steps, finish, requested_times  # noqa: E402
 
 BIN, CASES, WORK = [os.path.abspath(p) for p in sys.argv[1:4]]
 UNDEX = os.path.join(BIN, "undex")
 CASE = os.path.join(CASES, "sandwich_shock_1d.case")  # undex-fluid and undex-solid, about 10 s to the end
+END, INTERVAL = 1.6e-3, 5e-4  # the case's end_time and output.interval
+
+
+def steps_ok(out, what, end=END, complete=False):
+    """The time-step rule over the steps both sides recorded (tests/support/checks.py)."""
+    problems, steps = coupled_steps(out, os.path.join(out, "solid.h5"), end, requested_times(end, INTERVAL), complete)
+    check(not problems, f"{what}: time steps from both records ({steps})", "\n".join(problems))
 
 
 def last_state(h5):
@@ -82,6 +89,7 @@ for side, solver in (("fluid", "undex-fluid"), ("solid", "undex-solid")):
     check(st.startswith("failed: " + why) and good, f"{side}.h5 holds its last good state, status says why", st)
     check(f"{solver}: error: {why}" in log and f"{solver}: the last good state" in log,
           f"{side}.log ends with why and where the last good state is", log[-600:])
+steps_ok(out, "SIGKILL to undex")
 lock_path = os.path.join(out, "undex.lock")
 lock = open(lock_path).read() if os.path.exists(lock_path) else "(no lock file)"
 r = subprocess.run([UNDEX, "run", CASE, "-o", out, "--set", "end_time=1e-4"], capture_output=True, text=True)
@@ -92,6 +100,7 @@ r = subprocess.run([UNDEX, "run", CASE, "-o", out, "--set", "end_time=1e-4", "--
 check(r.returncode == 0 and last_state(os.path.join(out, "fluid.h5"))[0] == "complete" and
       not os.path.exists(os.path.join(out, "undex.lock")), "--force takes it over and the run completes",
       r.stdout[-800:] + r.stderr)
+steps_ok(out, "the run with --force", 1e-4, complete=True)
 
 # 2. SIGHUP to undex run.
 launcher, kids, out = start("hangup")
@@ -106,6 +115,7 @@ for side in ("fluid", "solid"):
     st, good = last_state(os.path.join(out, f"{side}.h5"))
     check(st.startswith("failed: stopped by a signal (SIGHUP)") and good,
           f"{side}.h5 holds its last good state, status '{st[:60]}'", st)
+steps_ok(out, "SIGHUP to undex")
 check("undex: hangup (SIGHUP): stopping both sides" in text and not os.path.exists(os.path.join(out, "undex.lock")),
       "undex says so and removes its lock", text[-1500:])
 

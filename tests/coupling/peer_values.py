@@ -23,7 +23,7 @@ import time
 
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from checks import check, finish, status_of  # noqa: E402
+from checks import check, coupled_steps, finish, requested_times, status_of  # noqa: E402
 
 BIN, CASES, PYDIR, WORK = [os.path.abspath(p) for p in sys.argv[1:5]]
 BAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "bad_peer.py")
@@ -74,6 +74,9 @@ class Job:
         check(self.proc.returncode == 3 and re.search(self.pattern, text) is not None and st_ok and took < self.limit,
               f"{self.what}: status {self.proc.returncode}, refused in {took:.1f} s; {self.h5} '{st[:50]}'",
               text[-1500:])
+        if self.h5 == "fluid.h5":  # the steps before the refusal keep the time-step rule (the peer keeps no record)
+            problems, steps = coupled_steps(self.out, None, 6e-4, requested_times(6e-4, 1e-4), complete=False)
+            check(not problems, f"{self.what}: time steps from the fluid's record ({steps})", "\n".join(problems))
 
 
 def fluid_peer(solver, source, mode, pattern):

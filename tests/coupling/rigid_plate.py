@@ -3,7 +3,7 @@
 program speaking it can replace undex-solid (docs/protocol.md). It uses only Debian's python3-zmq and
 python3-protobuf and the generated build/python/coupling_pb2.py (on PYTHONPATH or --proto-dir).
 
-    rigid_plate.py --mass M [--stiffness K] [--damping C] [--back-pressure P] [--dt DT] [--history CSV]
+    rigid_plate.py --mass M [--stiffness K] [--damping C] [--back-pressure P] [--dt DT[,DT...]] [--history CSV]
                    --couple ENDPOINT
 
 A plate per unit area, m du/dt = p_I - p_back - k x - c du/dt, with the interface condition of physics.md §5
@@ -21,9 +21,10 @@ def main():
     ap.add_argument("--stiffness", type=float, default=0.0, help="spring k per unit area, N/m³")
     ap.add_argument("--damping", type=float, default=0.0, help="dashpot c per unit area, N s/m³")
     ap.add_argument("--back-pressure", type=float, default=1e5, help="pressure on the dry face, Pa")
-    ap.add_argument("--dt", type=float, default=1.0, help="the step offered, s")
+    ap.add_argument("--dt", type=lambda s: [float(x) for x in s.split(",")], default=[1.0],
+                    help="the step offered, s; a comma-separated list is offered in turn, step by step")
     ap.add_argument("--timeout", type=float, default=30.0, help="longest wait for the fluid, s")
-    ap.add_argument("--history", help="CSV of t, dt, p_I, u_I, x per step")
+    ap.add_argument("--history", help="CSV of t, dt, p_I, u_I, x and the step offered dt_s per step")
     ap.add_argument("--proto-dir", help="directory of coupling_pb2.py")
     ap.add_argument("--couple", required=True, help="the fluid's endpoint")
     a = ap.parse_args()
@@ -70,7 +71,7 @@ def main():
     step = 0
     history = open(a.history, "w") if a.history else None
     if history:
-        history.write("t,dt,p_I,u_I,x\n")
+        history.write("t,dt,p_I,u_I,x,dt_s\n")
     try:
         send(0, hello=pb.Hello(solver="rigid_plate.py", version="1", dimension=1, alpha=0, x=[0.0], y=[0.0],
                                normal_x=[1.0], normal_y=[0.0], area=[1.0]))
@@ -82,15 +83,17 @@ def main():
         t, x, v, last_dt = 0.0, 0.0, 0.0, 0.0
         while True:
             step += 1
-            send(step, offer=pb.Offer(dt=a.dt, x=[x], y=[0.0], velocity=[v]))
+            offered = a.dt[(step - 1) % len(a.dt)]
+            send(step, offer=pb.Offer(dt=offered, x=[x], y=[0.0], velocity=[v]))
             g = receive(step, "grant", a.timeout)
             if g.WhichOneof("body") == "stop":
                 print(f"rigid_plate.py: done at t = {t:.6g} s: {g.stop.reason}", flush=True)
                 return 0
             g = g.grant
             dt = g.dt
-            if not (0 < dt <= a.dt) or len(g.p_L) != 1 or len(g.u_L) != 1 or len(g.Z_L) != 1 or len(g.geometric) != 1:
-                raise RuntimeError(f"the fluid solver sent a Grant at step {step} with dt = {dt} (offered {a.dt}) "
+            one_each = len(g.p_L) == len(g.u_L) == len(g.Z_L) == len(g.geometric) == 1
+            if not (0 < dt <= offered) or not one_each:
+                raise RuntimeError(f"the fluid solver sent a Grant at step {step} with dt = {dt} (offered {offered}) "
                                    "or not one value per interface node")
             # Central differences: m (v_new - v) = h (F + p_I), h the mean of the last two steps (half a step
             # at the start); p_I = p_L - Z (v_new - u_L) - geometric from the fluid's characteristic.
@@ -108,7 +111,7 @@ def main():
                 raise RuntimeError(f"non-finite plate state at step {step}")
             send(step, answer=pb.Answer(p_I=[p_I], u_I=[v], x=[x], y=[0.0]))
             if history:
-                history.write(f"{t!r},{dt!r},{p_I!r},{v!r},{x!r}\n")
+                history.write(f"{t!r},{dt!r},{p_I!r},{v!r},{x!r},{offered!r}\n")
             t += dt
             last_dt = dt
     except RuntimeError as err:

@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 using namespace undex::solid;
 
@@ -89,6 +91,47 @@ TEST(Materials, JohnsonCookRateTermAtSeveralRates) {
         EXPECT_GT(q, previous);
         previous = q;
     }
+}
+
+// The rate term is normalised by the reference rate ε̇0, here 5e-4 /s (not 1, so that a law that drops or
+// inverts the normalisation, or takes another logarithm, gives another stress). References written out:
+// (a) the flow stress itself, with the logarithm of the ratio as a number (ln 4000 at ε̇ = 2 /s, and the
+// rate term 1 at and below ε̇0), bound 1e-12 relative (round-off);
+// (b) steady simple shear at γ̇ = 2 /s up to ε_p ≈ 0.1 (ε̇_p/ε̇0 ≈ 2300): the test derives ε_p = (γ − τ/G)/√3
+// from the total shear strain it applied and the stress, and ε̇_p from the change of that ε_p over the last
+// step (neither taken from the law's own ε_p), and √3 τ must equal (A + B ε_p^n)(1 + C ln(ε̇_p/ε̇0)): bound
+// 1e-12 relative (the return mapping stops at 1e-14 of the increment; round-off). The rate term there is
+// 1.108, 10.8 % above the ε̇0 = 1 /s curve, so a wrong normalisation is far outside the bound.
+TEST(Materials, JohnsonCookRateTermNormalisedByTheReferenceRate) {
+    JohnsonCook::Constants c;
+    c.rho = 8000, c.E = 210e9, c.nu = 0.28, c.A = 950e6, c.B = 560e6, c.n = 0.26, c.C = 0.014,
+    c.eps_dot0 = 5e-4;
+    const JohnsonCook law(c);
+    struct Point {
+        double ep, rate, log_ratio;
+    };
+    for (const Point p : {Point{0.05, 2.0, std::log(4000.0)}, Point{0.2, 3e2, std::log(6e5)},
+                          Point{0.1, 5e-4, 0.0}, Point{0.1, 1e-4, 0.0}, Point{0.0, 1e-1, std::log(200.0)}}) {
+        const double expected = (950e6 + 560e6 * std::pow(p.ep, 0.26)) * (1 + 0.014 * p.log_ratio);
+        EXPECT_NEAR(law.flow_stress(p.ep, p.rate), expected, 1e-12 * expected)
+            << "ep " << p.ep << ", rate " << p.rate;
+    }
+    const double G = c.E / (2 * (1 + c.nu)), gamma_dot = 2.0, dgamma = 1e-4, dt = dgamma / gamma_dot;
+    PointState s;
+    double gamma = 0, ep_before = 0, worst = 0;
+    for (int k = 0; k < 1800; ++k) {
+        law.update({0, 0, 0, dgamma, 0, 0}, dt, s);
+        gamma += dgamma;
+        const double ep = (gamma - s.stress[3] / G) / std::sqrt(3.0), ep_rate = (ep - ep_before) / dt;
+        ep_before = ep;
+        if (ep < 1e-3) continue; // the elastic part and the first plastic steps, where ε̇_p is still rising
+        const double expected = (c.A + c.B * std::pow(ep, c.n)) * (1 + c.C * std::log(ep_rate / 5e-4));
+        worst = std::max(worst, std::abs(std::sqrt(3.0) * s.stress[3] / expected - 1));
+    }
+    std::printf("Johnson-Cook at eps_dot0 = 5e-4: largest relative departure %.2e, ep %.4f, rate term %.4f\n",
+                worst, ep_before, 1 + c.C * std::log(s.peeq_rate / 5e-4));
+    EXPECT_GT(ep_before, 0.09);
+    EXPECT_LT(worst, 1e-12); // measured 7.3e-15
 }
 
 namespace {
