@@ -245,3 +245,30 @@ TEST(Materials, BadConstantsAreNamed) {
     g.rho = 236, g.E = 1e9, g.sigma_pl = 1.5e6, g.eps_d = 0.8; // E_lock missing
     EXPECT_THROW(Foam1D{g}, MaterialError);
 }
+
+// The plastic strain tensor the law reports against the strain it was given: ε_p = ε − C⁻¹σ, with the
+// elastic strain from the returned stress (deviator over 2G, mean over 3K), on an isochoric extension
+// de = δ (1, −1, 0) far into the plastic range. On this proportional path ε_p is also the equivalent
+// plastic strain's tensor: √(2/3 ε_p:ε_p) = ε̄_p. Bound 1e-9 of ε_p (round-off of 2 000 increments; a wrong
+// flow-direction factor is off by tens of per cent).
+TEST(Materials, JohnsonCookPlasticStrainIsTotalMinusElastic) {
+    JohnsonCook::Constants c;
+    c.rho = 8000, c.E = 210e9, c.nu = 0.28, c.A = 950e6, c.B = 560e6, c.n = 0.26, c.C = 0;
+    const JohnsonCook law(c);
+    const double G = c.E / (2 * (1 + c.nu)), K = c.E / (3 * (1 - 2 * c.nu));
+    PointState s;
+    double total[3] = {0, 0, 0};
+    for (int k = 0; k < 2000; ++k) {
+        law.update({1e-4, -1e-4, 0, 0, 0, 0}, 1e-6, s);
+        total[0] += 1e-4, total[1] -= 1e-4;
+    }
+    const double m = (s.stress[0] + s.stress[1] + s.stress[2]) / 3;
+    double norm2 = 0;
+    for (int i = 0; i < 3; ++i) {
+        const double elastic = (s.stress[i] - m) / (2 * G) + m / (3 * K);
+        EXPECT_NEAR(s.plastic_strain[i], total[i] - elastic, 1e-9 * 0.2) << "component " << i;
+        norm2 += s.plastic_strain[i] * s.plastic_strain[i];
+    }
+    EXPECT_GT(s.peeq, 0.1);
+    EXPECT_NEAR(std::sqrt(2.0 / 3.0 * norm2), s.peeq, 1e-9 * s.peeq);
+}

@@ -235,7 +235,9 @@ TEST_P(SourceFlowOrder, SteadyRadialFlow) {
             if (level == 2) {
                 EXPECT_GE(o_rho, k + 0.8) << geometry << " k = " << k;
                 EXPECT_GE(o_u, k + 0.8) << geometry << " k = " << k;
-                if (k > 0) EXPECT_GE(o_avg, k + 1.8) << geometry << " k = " << k;
+                if (k > 0) {
+                    EXPECT_GE(o_avg, k + 1.8) << geometry << " k = " << k;
+                }
             }
         }
         std::printf("\n");
