@@ -119,11 +119,14 @@ def build(src, bld, jobs):
 
 def run_tests(bld, tests, jobs):
     """Names of the failed tests among `tests` (empty: all passed)."""
-    regex = "^(" + "|".join(re.escape(t) for t in tests) + ")$"
+    # A parametrised GoogleTest's CTest name goes on with "  # GetParam() = ...": the register names the part
+    # before it.
+    regex = "^(" + "|".join(re.escape(t) for t in tests) + ")( .*)?$"
     r = subprocess.run(["ctest", "-R", regex, "-j", str(jobs), "--timeout", "900"], cwd=bld,
                        capture_output=True, text=True)
-    ran = re.findall(r"Test\s+#\d+: (\S+) \.", r.stdout)
-    failed = set(re.findall(r"\d+ - (\S+) \(", r.stdout))
+    ran = re.findall(r"Test\s+#\d+: (\S+)", r.stdout)
+    listed = r.stdout.split("The following tests FAILED:")[-1] if "The following tests FAILED:" in r.stdout else ""
+    failed = set(re.findall(r"^\s*\d+ - (\S+)", listed, flags=re.M))
     if r.returncode != 0 and not failed:
         failed = {"(ctest: " + r.stdout.strip().splitlines()[-1] + ")"} if r.stdout.strip() else {"(ctest)"}
     missing = set(tests) - set(ran)
