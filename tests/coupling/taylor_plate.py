@@ -84,7 +84,7 @@ def structure_block(kind, m, out):
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "rigid_plate.py")
     history = os.path.join(out, "rigid_plate.csv")
     # It offers 2e-8 s and 1 s in turn: the structure limits every other step and the fluid (about 1.3e-7 s)
-    # the others, and an output time falls into a step the structure limits about 3 times in 4.
+    # the others.
     return (f'command: "/usr/bin/python3 {script} --mass {m!r} --dt 2e-8,1 --proto-dir {PYDIR} --history {history}" '
             f"front {{ type: FLUID }} back {{ type: FREE }}")
 

@@ -75,10 +75,16 @@ def coupled_steps(out_dir, structure, end_time, requested, complete=True):
     tol = 1e-12 * end_time
     req = np.array(requested)
     problems = []
-    with h5py.File(os.path.join(out_dir, "fluid.h5"), "r") as f:
-        i = f["interface"]
-        t, dt, dt_f, dt_s = i["t"][:], i["dt"][:], i["dt_f"][:], i["dt_s"][:]
-    ts, dts, offered = _structure_record(structure) if structure else (t, dt, dt_s)
+    try:
+        with h5py.File(os.path.join(out_dir, "fluid.h5"), "r") as f:
+            i = f["interface"]
+            t, dt, dt_f, dt_s = i["t"][:], i["dt"][:], i["dt_f"][:], i["dt_s"][:]
+    except (OSError, KeyError) as e:
+        return [f"{out_dir}/fluid.h5 holds no readable /interface record ({e})"], "no record"
+    try:
+        ts, dts, offered = _structure_record(structure) if structure else (t, dt, dt_s)
+    except (OSError, KeyError, ValueError) as e:
+        return [f"{structure} holds no readable step record ({e})"], "no record"
     n = min(len(t), len(ts))
     if complete and len(t) != len(ts):
         problems.append(f"the fluid recorded {len(t)} steps, the structure {len(ts)}")

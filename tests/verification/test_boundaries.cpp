@@ -12,7 +12,7 @@
 
 namespace {
 
-// Ideal gas (γ = 1.4) at ρ = 1, p = 1, moving at 1 towards the wall: a shock of p* = 2.87 leaves the wall.
+// Ideal gas (γ = 1.4) at ρ = 1, p = 1, moving at 1 towards the wall: a shock of p* = 2.93 leaves the wall.
 const exact::Solution reflection(exact::stiffened_gas(1.4), {1.0, 1.0, 1.0}, exact::stiffened_gas(1.4),
                                  {1.0, -1.0, 1.0});
 

@@ -63,9 +63,9 @@ Totals run_with_scaling(undex::fluid::FluidSolver& s, double end_time) {
 } // namespace
 
 // With the scaling on, the run reaches t = 0.15, the scaling acted (it is what keeps the run alive: see
-// Toro123FailsWithoutTheScaling), density and pressure are positive at the points, mass and energy are
-// conserved to round-off (the scaling keeps the cell averages), and the near-vacuum region agrees with the
-// exact solution.
+// Toro123AndVacuumFailWithoutTheScaling), density and pressure are positive at the points, mass and energy
+// are conserved to round-off (the scaling keeps the cell averages), and the near-vacuum region agrees with
+// the exact solution.
 TEST(Positivity, Toro123NeedsTheScalingWhichConservesMassAndEnergy) {
     auto s = undex::test::make(rarefactions(2, true, 0.15));
     const Totals r = run_with_scaling(*s, 0.15);

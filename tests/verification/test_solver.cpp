@@ -149,8 +149,7 @@ struct CavitationTubeExact {
         const double z = (x - 0.5) / t;
         const double c0 = liquid_sound_speed(p0), c_cav = liquid_sound_speed(p_cav);
         if (z <= -u0 - c0) return {rho0, -u0, 0, p0};
-        if (z <= u_cav() - c_cav) { // liquid fan: u − a = ξ, u − 2a/(γ−1) = −u0 − 2 c0/(γ−1)... for the left
-            // wave the invariant is u + 2a/(γ−1)
+        if (z <= u_cav() - c_cav) { // liquid fan of the left wave: u − a = ξ, u + 2a/(γ−1) constant
             const double c = (-u0 + 2 * c0 / (gw - 1) - z) * (gw - 1) / (gw + 1);
             const double pbar = B * std::pow(c * c * rho0 / (gw * B), gw / (gw - 1));
             return {rho0 * std::pow(pbar / B, 1 / gw), z + c, 0, pbar - B + A};
