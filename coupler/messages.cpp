@@ -172,6 +172,18 @@ Interface check_hello(const wire::Hello& h, int dimension, int alpha, std::strin
             throw CouplingError(who + ": interface node " + std::to_string(k) + " has wetted area " +
                                 number(i.area[k]) + " (must be positive)");
     }
+    if (h.face_size() != 0 && static_cast<std::size_t>(h.face_size()) != n)
+        throw CouplingError(who + " gives Hello.face " + std::to_string(h.face_size()) + " values for " +
+                            std::to_string(n) + " interface nodes");
+    i.face.assign(n, 0);
+    for (int k = 0; k < h.face_size(); ++k) {
+        const int previous = k == 0 ? 0 : i.face[k - 1];
+        if (h.face(k) != previous && h.face(k) != previous + 1)
+            throw CouplingError(who + ": interface node " + std::to_string(k) + " lies on face " +
+                                std::to_string(h.face(k)) + " after a node of face " + std::to_string(previous) +
+                                " (faces are numbered 0, 1, ... and their nodes are consecutive)");
+        i.face[k] = h.face(k);
+    }
     return i;
 }
 

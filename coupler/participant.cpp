@@ -162,6 +162,8 @@ double StructureParticipant::initialize(const Interface& i) {
     set(h->mutable_normal_x(), i.normal_x);
     set(h->mutable_normal_y(), i.normal_y);
     set(h->mutable_area(), i.area);
+    for (const int f : i.face)
+        h->add_face(f);
     nodes_ = i.size();
     channel_->send(e);
     const Envelope w = channel_->receive(0, Envelope::kWelcome);

@@ -28,11 +28,13 @@ struct Options {
 };
 
 // The interface nodes, sent once by the structure: reference positions, unit normals pointing from the fluid
-// into the structure, wetted areas.
+// into the structure, wetted areas, and the wet face of each node (the nodes of a face consecutive and in
+// order along it; empty: all on face 0).
 struct Interface {
     int dimension = 1;
     int alpha = 0; // 0 planar, 1 cylindrical or axisymmetric, 2 spherical
     std::vector<double> x, y, normal_x, normal_y, area;
+    std::vector<int> face;
     size_t size() const { return x.size(); }
 };
 
