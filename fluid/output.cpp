@@ -21,6 +21,7 @@ Output::Output(const std::string& directory, const std::string& case_text, const
     x_min_ = m.x_min, y_min_ = m.y_min, dx_ = m.dx, dy_ = m.dy;
     cavitation_ = solver.has_cavitation();
     level_set_ = !solver.level_set().empty();
+    structure_ = !solver.structure_level_set().empty();
     write_attr<long>(file_.id(), "dim", m.dim);
     write_attr<long>(file_.id(), "nx", m.nx);
     write_attr<long>(file_.id(), "ny", m.ny);
@@ -71,6 +72,8 @@ void Output::write_fields(const FluidSolver& solver, bool last_good) {
     write_dataset(g, "p", dims, p.data());
     if (cavitation_) write_dataset(g, "void_fraction", dims, alpha.data());
     if (level_set_) write_dataset(g, "phi", dims, solver.level_set().data());
+    if (const auto phi_s = solver.structure_level_set(); !phi_s.empty())
+        write_dataset(g, "phi_s", dims, phi_s.data());
     const auto c = solver.coefficients();
     const hsize_t per_cell = static_cast<hsize_t>(solver.variables() * solver.basis_functions());
     write_dataset(g, "coefficients", {hsize_t(n), per_cell}, c.data());
@@ -137,6 +140,7 @@ void Output::write_xdmf() const {
     if (dim_ == 2) fields.insert(fields.begin() + 2, "v");
     if (cavitation_) fields.push_back("void_fraction");
     if (level_set_) fields.push_back("phi");
+    if (structure_) fields.push_back("phi_s");
     const std::string dims = std::to_string(ny_) + " " + std::to_string(nx_);
     for (const auto& s : snapshots_) {
         x << "<Grid Name=\"" << s.group << "\" GridType=\"Uniform\">\n<Time Value=\"" << s.time << "\"/>\n"

@@ -3,10 +3,17 @@
 //               <message>"): scalar fixed-length strings, null-padded (base/h5.hpp)
 //   attributes  dim, nx, ny, degree, variables, basis_functions, x_min, x_max, y_min, y_max
 //   /fields/NNNNNN   attributes time, step, last_good (1 for the state written after a failure);
-//                    rho, u, v, p [, void_fraction] [, phi]: cell averages (phi: level set of two fluids),
+//                    rho, u, v, p [, void_fraction] [, phi] [, phi_s]: cell averages (phi: level set of two
+//                    fluids; phi_s: signed distance to the structure's nearest wet face, < 0 in the fluid,
+//                    ±(band + 2 cells) beyond where it is computed; inside the structure the other fields
+//                    hold the nearest face's ghost or last state),
 //                    shape (ny, nx) in 2D, (nx) in 1D; coefficients: modal DG coefficients, shape (cells,
 //                    variables·basis_functions)
 //   /gauges/NAME     t, rho, u, v, p: time series at the gauge point
+//   /interface       coupled runs, per step. 1D: t, dt, p_L, u_L, Z_L, p_I, u_I, displacement, dt_f, dt_s;
+//                    2D: t, dt, dt_f, dt_s, work (Σ_k p_I u_I A_k Δt of the step), total_work
+//   /wet_nodes       2D coupled runs, at every fields output after the first step, per wet node: t, node, face,
+//                    x, y (end of the step), p_L, u_L, p_I, u_I, area
 // The file is flushed after every write, so a run that stops leaves every completed output readable;
 // fluid.xmf lists the outputs flushed and is replaced whole (h5::write_file_atomically). A write that fails
 // throws h5::Error naming the file, the object and the cause.
@@ -55,7 +62,7 @@ class Output {
     int count_ = 0; // field outputs tried
     int dim_ = 1, nx_ = 0, ny_ = 1;
     double x_min_ = 0, y_min_ = 0, dx_ = 1, dy_ = 1;
-    bool cavitation_ = false, level_set_ = false;
+    bool cavitation_ = false, level_set_ = false, structure_ = false;
 };
 
 // Reading back (for `undex-fluid --sample`; base/h5.hpp reads the rest).

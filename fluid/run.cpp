@@ -8,12 +8,14 @@
 #include "coupler/participant.hpp"
 #include "fluid/output.hpp"
 #include "fluid/setup.hpp"
+#include "fluid/wet_faces.hpp"
 #include "proto/case.pb.h"
 
 #include <chrono>
 #include <cmath>
 #include <optional>
 #include <ostream>
+#include <sstream>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -24,34 +26,66 @@ namespace undex::fluid {
 namespace {
 
 bool coupled_case(const CaseFile& c) {
+    if (c.get().geometry() == config::PLANAR_2D || c.get().geometry() == config::AXISYMMETRIC_2D)
+        return c.get().has_structure();
     return c.get().boundaries().x_max().type() == config::Boundary::STRUCTURE;
 }
 
-// The structure at x_max, through the coupling library: its interface node sits at x_max (physics.md §5).
+// The structure, through the coupling library. In 1D its one interface node sits at x_max (physics.md §5);
+// in 2D its wet faces lie inside the fluid domain and move (physics.md §5.1, the solver's WetSolver part).
 class StructureLink {
   public:
-    StructureLink(const RunPlan& p, const std::string& endpoint, const Mesh& m, std::ostream& log) {
+    StructureLink(const RunPlan& p, const std::string& endpoint, FluidSolver& solver, std::ostream& log) {
+        const Mesh& m = solver.mesh();
         const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms, stop_requested};
         link_ = std::make_unique<coupling::FluidParticipant>(o, "undex-fluid", "0.1.0");
         log << "undex-fluid: waiting for the structure solver on " << link_->endpoint() << std::endl;
-        const auto iface = link_->initialize(1, m.alpha, p.end_time);
-        if (iface.size() != 1)
-            refuse("the structure solver (" + link_->peer_solver() + ") has " + std::to_string(iface.size()) +
-                   " interface nodes; a 1D fluid couples to one");
-        if (std::abs(iface.normal_x[0] - 1) > 1e-9)
-            refuse("the structure solver (" + link_->peer_solver() + ") gives its wet face the normal (" +
-                   std::to_string(iface.normal_x[0]) + ", " + std::to_string(iface.normal_y[0]) +
-                   "); the fluid lies at x < x_max, so it must be (1, 0)");
-        x0_I_ = iface.x[0];
+        const auto iface = link_->initialize(m.dim, m.alpha, p.end_time);
+        if (m.dim == 1) {
+            if (iface.size() != 1)
+                refuse("the structure solver (" + link_->peer_solver() + ") has " +
+                       std::to_string(iface.size()) + " interface nodes; a 1D fluid couples to one");
+            if (std::abs(iface.normal_x[0] - 1) > 1e-9)
+                refuse("the structure solver (" + link_->peer_solver() + ") gives its wet face the normal (" +
+                       std::to_string(iface.normal_x[0]) + ", " + std::to_string(iface.normal_y[0]) +
+                       "); the fluid lies at x < x_max, so it must be (1, 0)");
+            x0_I_ = {iface.x[0]};
+        } else {
+            wet_ = dynamic_cast<WetSolver*>(&solver);
+            const double tol = 1e-9 * std::max(m.x_max - m.x_min, m.y_max - m.y_min);
+            for (size_t k = 0; k < iface.size(); ++k)
+                if (iface.x[k] < m.x_min - tol || iface.x[k] > m.x_max + tol || iface.y[k] < m.y_min - tol ||
+                    iface.y[k] > m.y_max + tol)
+                    refuse(where(iface, k) + " lies outside the fluid domain [" + std::to_string(m.x_min) +
+                           ", " + std::to_string(m.x_max) + "] x [" + std::to_string(m.y_min) + ", " +
+                           std::to_string(m.y_max) + "]");
+            try {
+                wet_->attach(iface.face, iface.x, iface.y, iface.normal_x, iface.normal_y);
+            } catch (const std::exception& e) {
+                refuse("the structure solver (" + link_->peer_solver() +
+                       ") sends wet faces the fluid cannot hold: " + e.what());
+            }
+            x0_I_ = iface.x, y0_I_ = iface.y;
+            log << "undex-fluid: " << wet_->faces().faces() << " wet face(s), " << iface.size()
+                << " wet nodes" << std::endl;
+        }
         log << "undex-fluid: coupled to " << link_->peer_solver() << std::endl;
     }
     coupling::FluidParticipant& operator*() { return *link_; }
     coupling::FluidParticipant* operator->() { return link_.get(); }
-    double x0_I() const { return x0_I_; }
+    double x0_I() const { return x0_I_[0]; }
+    WetSolver* wet() const { return wet_; }
 
   private:
     std::unique_ptr<coupling::FluidParticipant> link_;
-    double x0_I_ = 0;
+    std::vector<double> x0_I_, y0_I_;
+    WetSolver* wet_ = nullptr;
+    std::string where(const coupling::Interface& i, size_t k) const {
+        std::ostringstream s;
+        s << "the structure solver (" << link_->peer_solver() << ") puts wet node " << k << " of face "
+          << i.face[k] << " at (" << i.x[k] << ", " << i.y[k] << "), which";
+        return s.str();
+    }
     // After the Welcome: the structure is told why.
     [[noreturn]] void refuse(const std::string& why) {
         link_->fail(why);
@@ -79,6 +113,13 @@ class FluidRun : public Run {
             throw RunFailure(exit_coupling_failed, "the structure solver stopped the run at step " +
                                                        std::to_string((*link_)->step()) + ": " +
                                                        (*link_)->stop_reason());
+        if (link_ && link_->wet()) {
+            try {
+                link_->wet()->move(offer_.x, offer_.y);
+            } catch (const SolverFailure& f) {
+                throw RunFailure(exit_method_failed, f.what());
+            }
+        }
         double dt = dt_f_ = solver_->stable_dt();
         if (link_) dt = std::min(dt, offer_.dt);
         const Step s = clock.clip(time(), dt);
@@ -106,6 +147,14 @@ class FluidRun : public Run {
             keep_waiting.emplace([this] { (*link_)->heartbeat(); }, 1.0);
         }
         out_.write_fields(*solver_);
+        if (link_ && link_->wet() && !last_answer_.p_I.empty()) {
+            const WetFaces& f = link_->wet()->faces();
+            for (int k = 0; k < f.nodes(); ++k)
+                wet_rows_.insert(wet_rows_.end(),
+                                 {solver_->time(), double(k), double(f.face(k)), last_answer_.x[k],
+                                  last_answer_.y[k], last_grant_.p_L[k], last_grant_.u_L[k],
+                                  last_answer_.p_I[k], last_answer_.u_I[k], f.area(k)});
+        }
         write_history();
     }
     void finish() override {
@@ -145,10 +194,17 @@ class FluidRun : public Run {
     // dt_s the structure's offer: the tests check dt = min(dt_f, dt_s) unless the step ends on an output
     // time).
     std::vector<double> history_;
+    double work_ = 0; // 2D: Σ over steps and wet nodes of p_I u_I A Δt
+    // 2D, at every fields output: t, node, face, x, y (end of the step), p_L, u_L, p_I, u_I, area per wet
+    // node
+    std::vector<double> wet_rows_;
+    coupling::Grant last_grant_;
+    coupling::Answer last_answer_;
 
     // Grants the step s with the fluid's characteristic state at the interface (the DG trace of the last
     // cell) and applies the structure's answer; dt_ becomes min(Δt_f, Δt_s), the step both sides take.
     void exchange(const Step& s) {
+        if (link_->wet()) return exchange_2d(s);
         const Mesh& m = solver_->mesh();
         const double x_I = m.x_max;
         const Primitive w = solver_->evaluate(x_I, 0);
@@ -160,14 +216,57 @@ class FluidRun : public Run {
         g.p_L = {w.p};
         g.u_L = {w.u};
         g.Z_L = {w.rho * a};
-        g.geometric = {m.alpha * s.dt * w.rho * a * a * w.u / x_I};
+        g.geometric = {geometric_term(m.alpha, s.dt, w.rho, a, w.u, x_I)};
         const coupling::Answer ans = (*link_)->exchange(s.dt, g);
         dt_ = g.dt;
         solver_->set_structure_state(ans.p_I[0], ans.u_I[0]);
         history_.insert(history_.end(), {solver_->time(), dt_, w.p, w.u, g.Z_L[0], ans.p_I[0], ans.u_I[0],
                                          ans.x[0] - link_->x0_I(), dt_f_, offer_.dt});
     }
+    // 2D: the fluid next to every wet node along its normal, the geometric term with r of the node (dropped
+    // within one cell of the axis), and the structure's answer for the ghost bands; the history records the
+    // step, both offers and the work Σ p_I u_I A Δt with the areas of the offered positions.
+    void exchange_2d(const Step& s) {
+        WetSolver& wet = *link_->wet();
+        std::vector<WetSample> w;
+        try {
+            w = wet.sample();
+        } catch (const SolverFailure& f) {
+            throw RunFailure(exit_method_failed, f.what());
+        }
+        const Mesh& m = solver_->mesh();
+        const WetFaces& faces = wet.faces();
+        const size_t n = w.size();
+        coupling::Grant g;
+        g.time = solver_->time();
+        g.p_floor = solver_->pressure_floor();
+        g.output = s.output;
+        g.p_L.resize(n), g.u_L.resize(n), g.Z_L.resize(n), g.geometric.resize(n);
+        for (size_t k = 0; k < n; ++k) {
+            g.p_L[k] = w[k].p;
+            g.u_L[k] = w[k].u_n;
+            g.Z_L[k] = w[k].rho * w[k].a;
+            g.geometric[k] =
+                geometric_term(m.alpha, s.dt, w[k].rho, w[k].a, w[k].u_x, faces.x(k), std::max(m.dx, m.dy));
+        }
+        const coupling::Answer ans = (*link_)->exchange(s.dt, g);
+        dt_ = g.dt;
+        wet.set_interface(ans.p_I, ans.u_I);
+        double work = 0;
+        for (size_t k = 0; k < n; ++k)
+            work += ans.p_I[k] * ans.u_I[k] * faces.area(k) * dt_;
+        work_ += work;
+        history_.insert(history_.end(), {solver_->time(), dt_, dt_f_, offer_.dt, work, work_});
+        last_grant_ = std::move(g);
+        last_answer_ = ans;
+    }
     void write_history() {
+        if (link_ && link_->wet()) {
+            out_.write_table("interface", {"t", "dt", "dt_f", "dt_s", "work", "total_work"}, history_);
+            out_.write_table("wet_nodes", {"t", "node", "face", "x", "y", "p_L", "u_L", "p_I", "u_I", "area"},
+                             wet_rows_);
+            return;
+        }
         if (link_)
             out_.write_table("interface",
                              {"t", "dt", "p_L", "u_L", "Z_L", "p_I", "u_I", "displacement", "dt_f", "dt_s"},
@@ -199,7 +298,7 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
     if (m.dim == 2) log << " x " << m.ny;
     log << " cells, degree " << solver->degree() << ", " << threads << " thread(s), end time " << p.end_time
         << " s, output " << p.directory << "/fluid.h5" << std::endl;
-    auto link = coupled ? std::make_unique<StructureLink>(p, couple, m, log) : nullptr;
+    auto link = coupled ? std::make_unique<StructureLink>(p, couple, *solver, log) : nullptr;
     FluidRun r(c, p, std::move(solver), std::move(link));
     return drive(r, p, "undex-fluid", log);
 }

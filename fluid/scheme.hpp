@@ -187,7 +187,21 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 
     // Sets cell (i, j) to the constant polynomial of a primitive state.
     void set_cell_state(int i, int j, const Primitive& w) {
-        double* c = cell(u_.data(), i, j);
+        set_state_in(u_.data(), i, j, w);
+    }
+
+    // Cells that a coupling sets at every stage, as the domain's ghost cells are (the structure's ghost band,
+    // fluid/wet_fluid.hpp): f(U) is called with the coefficients of the stage after the domain's ghost cells
+    // are filled and before the fluxes and the limiter read them; it must write inactive cells only.
+    void set_stage_ghosts(std::function<void(double*)> f) {
+        stage_ghosts_ = std::move(f);
+    }
+    // The cell-average state of cell (i, j) of stage coefficients U, and a constant state written there.
+    Primitive average_in(const double* U, int i, int j) const {
+        return euler::to_primitive<D>(eos_, euler::Strided<const double>{cell(U, i, j), NB});
+    }
+    void set_state_in(double* U, int i, int j, const Primitive& w) const {
+        double* c = cell(U, i, j);
         std::fill(c, c + NC, 0.0);
         euler::to_conserved<D>(eos_, w, euler::Strided<double>{c, NB});
     }
@@ -221,6 +235,11 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         int j = D == 2 ? static_cast<int>(std::floor((y - mesh_.y_min) / mesh_.dy)) : 0;
         i = std::clamp(i, 0, mesh_.nx - 1);
         j = std::clamp(j, 0, mesh_.ny - 1);
+        return evaluate_in(i, j, x, y);
+    }
+
+    // The polynomial of interior cell (i, j) at the point of the cell nearest to (x, y).
+    Primitive evaluate_in(int i, int j, double x, double y) const {
         const double xi = std::clamp(2.0 * (x - mesh_.xc(i)) / mesh_.dx, -1.0, 1.0);
         const double eta = D == 2 ? std::clamp(2.0 * (y - mesh_.yc(j)) / mesh_.dy, -1.0, 1.0) : 0.0;
         const double* c = cell(u_.data(), i, j);
@@ -286,6 +305,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     long steps_ = 0;
     const std::vector<char>* active_ = nullptr;
     std::vector<int> lo_, hi_; // per row: the active cells lie in [lo, hi)
+    std::function<void(double*)> stage_ghosts_;
 
     bool active(int i, int j) const {
         return !active_ || (*active_)[mesh_.index(i, j)];
@@ -335,6 +355,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     void compute_rhs(std::vector<double>& Uvec, double t) {
         double* U = Uvec.data();
         fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
+        if (stage_ghosts_) stage_ghosts_(U);
         const int nx = mesh_.nx, ny = mesh_.ny;
         // Fluxes through x faces: face i lies between cells i − 1 and i.
 #pragma omp parallel for schedule(static) if (D == 2)
@@ -457,6 +478,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     // admissible.
     void limit(std::vector<double>& Uvec, double t, const char* stage) {
         double* U = Uvec.data();
+        if (stage_ghosts_) stage_ghosts_(U); // also leaves the band fresh in the step's result
         if (K > 0 && set_.limiter != Limiter::None && set_.indicator != Indicator::None) {
             fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
             mark_troubled(U);

@@ -7,6 +7,7 @@
 #include "fluid/euler.hpp"
 #include "fluid/scheme.hpp"
 #include "fluid/two_fluid.hpp"
+#include "fluid/wet_fluid.hpp"
 #include "proto/case.pb.h"
 
 #include <algorithm>
@@ -357,10 +358,21 @@ void validate_boundaries(const CaseFile& cf) {
                                          : "boundaries.y_max",
                     "the structure's wet face is the x_max side (STRUCTURE there)");
     if (b.x_max().type() == cfg::Boundary::STRUCTURE) {
+        if (two_d)
+            cf.fail("boundaries.x_max",
+                    "in 2D the structure lies inside the fluid domain (its wet faces come from "
+                    "the structure solver): no STRUCTURE boundary");
         if (!c.has_structure())
             cf.fail("boundaries.x_max", "a STRUCTURE boundary needs a structure in the case");
         if (c.geometry() != cfg::PLANAR_1D)
             cf.fail("boundaries.x_max", "coupling to a structure is available in PLANAR_1D cases for now");
+    } else if (c.has_structure() && two_d) {
+        for (int r = 1; r < c.regions_size(); ++r)
+            if (c.regions(r).material() != c.regions(0).material())
+                cf.fail(
+                    "regions[" + std::to_string(r) + "].material",
+                    "two fluids together with a structure in 2D are not supported yet: one fluid around the "
+                    "structure");
     } else if (c.has_structure()) {
         cf.fail("boundaries.x_max", "with a structure in the case, the fluid's x_max side is its wet face: "
                                     "STRUCTURE");
@@ -478,6 +490,34 @@ std::unique_ptr<FluidSolver> build(const cfg::Case& c, const Mesh& mesh, const E
         euler::to_conserved<D>(eos, Primitive{reg->rho(), reg->u(), reg->v(), reg->p()}, q);
     });
     return solver;
+}
+
+// A 2D fluid around a structure (fluid/wet_fluid.hpp): the wet faces attach when the structure solver
+// sends them.
+template <int K, class Eos>
+std::unique_ptr<FluidSolver> build_wet(const cfg::Case& c, const Mesh& mesh, const Eos& eos,
+                                       const Settings& s, const std::array<Boundary, 4>& bc) {
+    auto solver = std::make_unique<WetFluid<K, Eos>>(mesh, eos, s, bc);
+    solver->project([&](double x, double y, double* q) {
+        const cfg::Region* reg = &c.regions(0);
+        for (const auto& r : c.regions())
+            if (inside(r, x, y)) reg = &r;
+        euler::to_conserved<2>(eos, Primitive{reg->rho(), reg->u(), reg->v(), reg->p()}, q);
+    });
+    return solver;
+}
+
+template <class Eos>
+std::unique_ptr<FluidSolver> build_wet_degree(const cfg::Case& c, const Mesh& m, const Eos& eos,
+                                              const Settings& s, const std::array<Boundary, 4>& bc) {
+    switch (s.degree) {
+    case 0:
+        return build_wet<0>(c, m, eos, s, bc);
+    case 1:
+        return build_wet<1>(c, m, eos, s, bc);
+    default:
+        return build_wet<2>(c, m, eos, s, bc);
+    }
 }
 
 template <int D, class Eos>
@@ -605,6 +645,13 @@ std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
     const cfg::Region* other = nullptr;
     for (const auto& r : c.regions())
         if (r.material() != c.regions(0).material() && !other) other = &r;
+    if (mesh.dim == 2 && c.has_structure()) {
+        if (other)
+            cf.fail("regions",
+                    "two fluids together with a structure in 2D are not supported yet: one fluid (water) "
+                    "around the structure");
+        return std::visit([&](const auto& eos) { return build_wet_degree(c, mesh, eos, s, bc); }, eos_plus);
+    }
     if (!other) return std::visit([&](const auto& eos) { return build_dim(c, mesh, eos, s, bc); }, eos_plus);
     InterfaceSettings is;
     const auto& in = c.interface();

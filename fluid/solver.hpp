@@ -89,6 +89,36 @@ class FluidSolver {
     // Level set φ at the interior cell centres (index j·nx + i) of a two-fluid run; empty for one fluid.
     virtual std::vector<double> level_set() const { return {}; }
     virtual void set_level_set(const std::vector<double>& /*phi*/) {}
+    // Structure level set φ_s at the interior cell centres of a 2D run with a structure (index j·nx + i):
+    // the signed distance to the nearest wet face, < 0 in the fluid; empty without a structure.
+    virtual std::vector<double> structure_level_set() const { return {}; }
+};
+
+// The fluid next to a wet node (physics.md §5.1): pressure, velocity along the node's normal, density and
+// sound speed (Z_L = ρ a), radial (x) velocity for the geometric term.
+struct WetSample {
+    double p = 0, u_n = 0, rho = 0, a = 0, u_x = 0;
+};
+
+// A 2D fluid around a structure (physics.md §5.1, fluid/wet_fluid.hpp): the structure's wet faces move
+// through the mesh; each face has its own fluid solution, real on its side and set in a ghost band behind
+// it from the structure's interface pressure and velocity.
+class WetFaces;
+class WetSolver : public FluidSolver {
+  public:
+    // The structure's wet nodes (the Hello): face of each node, reference positions and normals. Throws
+    // std::invalid_argument for faces the fluid cannot hold (a face of one node, nodes that coincide).
+    virtual void attach(const std::vector<int>& face, const std::vector<double>& x,
+                        const std::vector<double>& y, const std::vector<double>& normal_x,
+                        const std::vector<double>& normal_y) = 0;
+    // The node positions at the start of a step (the Offer): faces, structure level set, real cells and
+    // ghost bands. Throws SolverFailure for a geometry the method cannot hold.
+    virtual void move(const std::vector<double>& x, const std::vector<double>& y) = 0;
+    virtual const WetFaces& faces() const = 0;
+    // The fluid next to every wet node. Throws SolverFailure naming a node with no fluid next to it.
+    virtual std::vector<WetSample> sample() const = 0;
+    // The structure's interface pressure and normal velocity per node over the next step (the Answer).
+    virtual void set_interface(const std::vector<double>& p_I, const std::vector<double>& u_I) = 0;
 };
 
 } // namespace undex::fluid

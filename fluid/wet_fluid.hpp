@@ -1,0 +1,453 @@
+// A 2D fluid around a moving structure (physics.md §5.1, paper §3.3): the structure level set φ_s and the
+// ghost fluid method at the structure's wet faces.
+//
+// - One fluid solution per wet face (a plate in water has two: below and above). A cell is real for face f
+//   where φ_f < 0, φ_f the signed distance of its centre to face f (< 0 on the fluid side); a cell on the
+//   fluid side of two faces is refused (the faces cross). Each solution is solved only in its real cells;
+//   cells inside the structure hold no fluid and cost nothing.
+// - φ_f is rebuilt every step from the node positions the structure offers (exact, no drift), but only in
+//   the cells within `band_cells + 2` cells of a segment (each segment visits the cells of its bounding box
+//   grown by that much: a binned search, linear in the segments). Elsewhere only the sign matters, and it
+//   cannot change while the faces move less than a cell per step (the CFL bound); it is set once, exactly,
+//   when the structure attaches.
+// - The ghost band 0 ≤ φ_f < band_cells · h (h = max(Δx, Δy)) of each face is set at every stage, as the
+//   domain's ghost cells are: pressure and normal velocity (p_I, u_I) of the structure interpolated along the
+//   face at the cell's closest point, tangential velocity of the fluid (slip), density on the fluid's wall
+//   isentrope (EquationOfState::wall_density) from p to p_I: the state along the normal is constant, the
+//   constant extension of paper eq. 33. The fluid state it starts from is the cell average of the first real
+//   cell met walking from the closest point into the fluid along the normal; a plate thinner than the band
+//   has cells that are ghost cells of both faces, each with its own state in its own solution, and each real
+//   cell's fluxes see the ghost state of its own side.
+// - Cells uncovered by the structure were in the band: they hold the ghost state of the last stage.
+#pragma once
+#include "fluid/scheme.hpp"
+#include "fluid/wet_faces.hpp"
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+namespace undex::fluid {
+
+template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
+  public:
+    using S = Scheme<2, K, Eos>;
+
+    WetFluid(const Mesh& mesh, const Eos& eos, const Settings& s, const std::array<Boundary, 4>& bc,
+             int band_cells = 3)
+        : mesh_(mesh), band_cells_(band_cells), base_(std::make_unique<S>(mesh, eos, s, bc)) {}
+
+    // ---- the structure ------------------------------------------------------------------------------
+    void attach(const std::vector<int>& face, const std::vector<double>& x, const std::vector<double>& y,
+                const std::vector<double>& normal_x, const std::vector<double>& normal_y) override {
+        faces_.emplace(face, x, y, normal_x, normal_y, mesh_.alpha);
+        const long n = cells();
+        p_I_.assign(faces_->nodes(), 0.0);
+        u_I_.assign(faces_->nodes(), 0.0);
+        interface_set_ = false;
+        nearest_.assign(n, Nearest{});
+        for (int f = 0; f < faces_->faces(); ++f) {
+            auto side = std::make_unique<Side>();
+            side->scheme = std::make_unique<S>(*base_);
+            side->mask.assign(mesh_.padded_cells(), 0);
+            side->phi.assign(n, 0.0);
+            sides_.push_back(std::move(side));
+        }
+        // Every cell's sign, once: the distance to the whole face.
+        for (int f = 0; f < faces_->faces(); ++f) {
+            Side& sd = *sides_[f];
+#pragma omp parallel for schedule(static)
+            for (int j = 0; j < mesh_.ny; ++j)
+                for (int i = 0; i < mesh_.nx; ++i) {
+                    ClosestPoint best;
+                    for (int a = faces_->begin(f); a + 1 < faces_->end(f); ++a) {
+                        const ClosestPoint c = faces_->to_segment(a, mesh_.xc(i), mesh_.yc(j));
+                        if (c.distance < best.distance) best = c;
+                    }
+                    const double d = faces_->signed_distance(best, mesh_.xc(i), mesh_.yc(j));
+                    sd.phi[at(i, j)] = d < 0 ? -far() : far();
+                }
+        }
+        for (int f = 0; f < faces_->faces(); ++f) {
+            Side& sd = *sides_[f];
+            sd.scheme->set_active(&sd.mask);
+            sd.scheme->set_stage_ghosts([this, f](double* U) { fill_band(f, U); });
+        }
+        base_.reset();
+        rebuild();
+    }
+
+    void move(const std::vector<double>& x, const std::vector<double>& y) override {
+        try {
+            faces_->set_positions(x, y);
+        } catch (const std::invalid_argument& e) {
+            fail(e.what());
+        }
+        rebuild();
+    }
+
+    const WetFaces& faces() const override {
+        return *faces_;
+    }
+
+    std::vector<WetSample> sample() const override {
+        const WetFaces& w = *faces_;
+        std::vector<WetSample> out(w.nodes());
+        for (int k = 0; k < w.nodes(); ++k) {
+            const auto n = w.normal(k);
+            const int f = w.face(k);
+            double px, py;
+            if (!probe(f, w.x(k), w.y(k), n[0], n[1], px, py)) {
+                std::ostringstream s;
+                s << "wet node " << k << " of face " << f << " at (" << w.x(k) << ", " << w.y(k)
+                  << ") has no fluid within " << band_cells_ << " cells along its normal";
+                fail(s.str());
+            }
+            // The trace along the normal of the real cell(s) at the probe point: from the cell's centre along
+            // n to the node's level. A probe point on a cell edge takes the mean of the real cells on both
+            // sides, so that mirror-image nodes see mirror-image cells.
+            const S& sc = *sides_[f]->scheme;
+            double acc[5] = {};
+            int used = 0;
+            for (const long c : cells_at(px, py)) {
+                if (!(sides_[f]->phi[c] < 0)) continue;
+                const int ci = static_cast<int>(c % mesh_.nx), cj = static_cast<int>(c / mesh_.nx);
+                const double xc = mesh_.xc(ci), yc = mesh_.yc(cj);
+                const double d = (w.x(k) - xc) * n[0] + (w.y(k) - yc) * n[1];
+                const Primitive p = sc.evaluate_in(ci, cj, xc + d * n[0], yc + d * n[1]);
+                const double v[5] = {p.p, p.u * n[0] + p.v * n[1], p.rho, sc.eos().sound_speed(p.rho, p.p),
+                                     p.u};
+                for (int q = 0; q < 5; ++q)
+                    acc[q] += v[q];
+                ++used;
+            }
+            out[k] = {acc[0] / used, acc[1] / used, acc[2] / used, acc[3] / used, acc[4] / used};
+        }
+        return out;
+    }
+
+    void set_interface(const std::vector<double>& p_I, const std::vector<double>& u_I) override {
+        p_I_ = p_I;
+        u_I_ = u_I;
+        interface_set_ = true;
+    }
+
+    std::vector<double> structure_level_set() const override {
+        if (sides_.empty()) return {};
+        std::vector<double> out(cells());
+        for (long c = 0; c < cells(); ++c) {
+            double v = far();
+            for (const auto& sd : sides_)
+                v = std::min(v, sd->phi[c]);
+            out[c] = v;
+        }
+        return out;
+    }
+
+    // ---- the fluid ----------------------------------------------------------------------------------
+    const Mesh& mesh() const override {
+        return mesh_;
+    }
+    int degree() const override {
+        return K;
+    }
+    int variables() const override {
+        return 4;
+    }
+    int basis_functions() const override {
+        return Basis<2, K>::NB;
+    }
+    double time() const override {
+        return first().time();
+    }
+    long steps() const override {
+        return first().steps();
+    }
+    double stable_dt() const override {
+        if (sides_.empty()) return base_->stable_dt();
+        double dt = std::numeric_limits<double>::infinity();
+        for (const auto& sd : sides_)
+            dt = std::min(dt, sd->scheme->stable_dt());
+        return dt;
+    }
+    void step(double dt) override {
+        if (sides_.empty()) return base_->step(dt);
+        if (!interface_set_) throw std::logic_error("WetFluid::step before set_interface");
+        for (size_t f = 0; f < sides_.size(); ++f) {
+            try {
+                sides_[f]->scheme->step(dt);
+            } catch (const SolverFailure& e) {
+                for (size_t g = 0; g < f; ++g)
+                    sides_[g]->scheme->revert_step();
+                throw SolverFailure("fluid of wet face " + std::to_string(f) + ": " + e.what());
+            }
+        }
+    }
+    void project(const std::function<void(double, double, double*)>& q) override {
+        if (!sides_.empty()) throw std::logic_error("WetFluid::project after attach");
+        base_->project(q);
+    }
+    std::vector<double> coefficients() const override {
+        if (sides_.empty()) return base_->coefficients();
+        std::vector<double> out = sides_[0]->scheme->coefficients();
+        const int nc = variables() * basis_functions();
+        for (size_t f = 1; f < sides_.size(); ++f) {
+            const auto c = sides_[f]->scheme->coefficients();
+            for (long k = 0; k < cells(); ++k)
+                if (owner(k) == static_cast<int>(f))
+                    std::copy_n(c.begin() + k * nc, nc, out.begin() + k * nc);
+        }
+        return out;
+    }
+    void set_coefficients(const std::vector<double>& c, double time) override {
+        if (sides_.empty()) return base_->set_coefficients(c, time);
+        for (auto& sd : sides_)
+            sd->scheme->set_coefficients(c, time);
+    }
+    Primitive evaluate(double x, double y) const override {
+        if (sides_.empty()) return base_->evaluate(x, y);
+        return sides_[owner(cell_of(x, y))]->scheme->evaluate(x, y);
+    }
+    Primitive cell_average(int i, int j) const override {
+        if (sides_.empty()) return base_->cell_average(i, j);
+        return sides_[owner(at(i, j))]->scheme->cell_average(i, j);
+    }
+    double void_fraction(double p) const override {
+        return first().void_fraction(p);
+    }
+    bool has_cavitation() const override {
+        return first().has_cavitation();
+    }
+    double cell_void_fraction(int i, int j) const override {
+        if (sides_.empty()) return base_->cell_void_fraction(i, j);
+        return sides_[owner(at(i, j))]->scheme->cell_void_fraction(i, j);
+    }
+    // Mass, momentum and energy of the real cells of every face's fluid.
+    std::vector<double> totals() const override {
+        if (sides_.empty()) return base_->totals();
+        std::vector<double> t(variables(), 0.0);
+        for (const auto& sd : sides_)
+            for (int j = 0; j < mesh_.ny; ++j)
+                for (int i = 0; i < mesh_.nx; ++i) {
+                    if (!(sd->phi[at(i, j)] < 0)) continue;
+                    const auto w = sd->scheme->cell_average(i, j);
+                    double q[4];
+                    euler::to_conserved<2>(sd->scheme->eos(), w, q);
+                    for (int v = 0; v < 4; ++v)
+                        t[v] += q[v] * mesh_.dx * mesh_.dy;
+                }
+        return t;
+    }
+    long troubled_cells() const override {
+        return sum([](const S& s) { return s.troubled_cells(); });
+    }
+    long positivity_scaled_cells() const override {
+        return sum([](const S& s) { return s.positivity_scaled_cells(); });
+    }
+    double sound_speed(double x, double y) const override {
+        const Primitive w = evaluate(x, y);
+        return first().eos().sound_speed(w.rho, w.p);
+    }
+    double pressure_floor() const override {
+        return first().pressure_floor();
+    }
+    void set_structure_state(double, double) override {}
+
+    // Whether interior cell (i, j) is real for face f (for tests).
+    bool real(int f, int i, int j) const {
+        return sides_[f]->phi[at(i, j)] < 0;
+    }
+    double phi(int f, int i, int j) const {
+        return sides_[f]->phi[at(i, j)];
+    }
+
+  private:
+    // A ghost cell of a face: where it is, its closest point on the face (segment a, parameter t, normal n)
+    // and the real cell it takes the fluid state from.
+    struct Ghost {
+        int i, j, a;
+        double t, nx, ny;
+        int si, sj;
+    };
+    struct Side {
+        std::unique_ptr<S> scheme;
+        std::vector<char> mask;    // padded cells: real
+        std::vector<double> phi;   // interior cells: signed distance to the face (±far() beyond the band)
+        std::vector<long> near;    // cells whose distance was computed at the last rebuild
+        std::vector<Ghost> ghosts; // the band set at every stage
+    };
+    struct Nearest {
+        double distance = std::numeric_limits<double>::infinity();
+        int a = -1;
+    };
+
+    Mesh mesh_;
+    int band_cells_;
+    std::unique_ptr<S> base_; // the fluid before the structure attaches (initial data)
+    std::optional<WetFaces> faces_;
+    std::vector<std::unique_ptr<Side>> sides_;
+    std::vector<Nearest> nearest_; // scratch of the rebuild, reset after use
+    std::vector<double> p_I_, u_I_;
+    bool interface_set_ = false;
+
+    long cells() const {
+        return static_cast<long>(mesh_.nx) * mesh_.ny;
+    }
+    long at(int i, int j) const {
+        return static_cast<long>(j) * mesh_.nx + i;
+    }
+    double h() const {
+        return std::max(mesh_.dx, mesh_.dy);
+    }
+    // |φ| beyond the cells whose distance is computed.
+    double far() const {
+        return (band_cells_ + 2) * h();
+    }
+    const S& first() const {
+        return sides_.empty() ? *base_ : *sides_[0]->scheme;
+    }
+    template <class F> long sum(F&& f) const {
+        if (sides_.empty()) return f(*base_);
+        long n = 0;
+        for (const auto& sd : sides_)
+            n += f(*sd->scheme);
+        return n;
+    }
+    long cell_of(double x, double y) const {
+        const int i = std::clamp(static_cast<int>(std::floor((x - mesh_.x_min) / mesh_.dx)), 0, mesh_.nx - 1);
+        const int j = std::clamp(static_cast<int>(std::floor((y - mesh_.y_min) / mesh_.dy)), 0, mesh_.ny - 1);
+        return at(i, j);
+    }
+    // The face whose fluid owns a cell: the one it is real for, or else (inside the structure) the nearest.
+    int owner(long c) const {
+        int best = 0;
+        for (size_t f = 0; f < sides_.size(); ++f) {
+            if (sides_[f]->phi[c] < 0) return static_cast<int>(f);
+            if (sides_[f]->phi[c] < sides_[best]->phi[c]) best = static_cast<int>(f);
+        }
+        return best;
+    }
+
+    [[noreturn]] void fail(const std::string& what) const {
+        std::ostringstream s;
+        s << what << " (t = " << time() << " s, step " << steps() << ")";
+        throw SolverFailure(s.str());
+    }
+
+    // The first point along −n from (x, y), in quarter cells up to the band's width, whose cell is real for
+    // face f; false if there is none.
+    bool probe(int f, double x, double y, double nx, double ny, double& px, double& py) const {
+        const Side& sd = *sides_[f];
+        for (int m = 0; m <= 4 * band_cells_; ++m) {
+            const double d = 0.25 * m * h();
+            px = x - d * nx, py = y - d * ny;
+            if (sd.phi[cell_of(px, py)] < 0) return true;
+        }
+        return false;
+    }
+    // The cell containing (x, y), and its neighbour across an edge that (x, y) lies on (up to four cells).
+    std::vector<long> cells_at(double x, double y) const {
+        const double fx = (x - mesh_.x_min) / mesh_.dx, fy = (y - mesh_.y_min) / mesh_.dy;
+        const int i = std::clamp(static_cast<int>(std::floor(fx)), 0, mesh_.nx - 1);
+        const int j = std::clamp(static_cast<int>(std::floor(fy)), 0, mesh_.ny - 1);
+        const bool ex = fx == std::floor(fx) && i > 0, ey = fy == std::floor(fy) && j > 0;
+        std::vector<long> c = {at(i, j)};
+        if (ex) c.push_back(at(i - 1, j));
+        if (ey) c.push_back(at(i, j - 1));
+        if (ex && ey) c.push_back(at(i - 1, j - 1));
+        return c;
+    }
+    bool first_real(int f, double x, double y, double nx, double ny, int& ci, int& cj) const {
+        double px, py;
+        if (!probe(f, x, y, nx, ny, px, py)) return false;
+        const long c = cell_of(px, py);
+        ci = static_cast<int>(c % mesh_.nx), cj = static_cast<int>(c / mesh_.nx);
+        return true;
+    }
+
+    // φ of every face near its segments, the real cells and the ghost bands, from the current positions.
+    void rebuild() {
+        const WetFaces& w = *faces_;
+        const double reach = far();
+        for (int f = 0; f < w.faces(); ++f) {
+            Side& sd = *sides_[f];
+            for (const long c : sd.near)
+                sd.phi[c] = sd.phi[c] < 0 ? -reach : reach;
+            sd.near.clear();
+            for (int a = w.begin(f); a + 1 < w.end(f); ++a) {
+                const double x0 = std::min(w.x(a), w.x(a + 1)) - reach,
+                             x1 = std::max(w.x(a), w.x(a + 1)) + reach;
+                const double y0 = std::min(w.y(a), w.y(a + 1)) - reach,
+                             y1 = std::max(w.y(a), w.y(a + 1)) + reach;
+                const int i0 = std::max(0, static_cast<int>(std::floor((x0 - mesh_.x_min) / mesh_.dx)));
+                const int i1 =
+                    std::min(mesh_.nx - 1, static_cast<int>(std::floor((x1 - mesh_.x_min) / mesh_.dx)));
+                const int j0 = std::max(0, static_cast<int>(std::floor((y0 - mesh_.y_min) / mesh_.dy)));
+                const int j1 =
+                    std::min(mesh_.ny - 1, static_cast<int>(std::floor((y1 - mesh_.y_min) / mesh_.dy)));
+                for (int j = j0; j <= j1; ++j)
+                    for (int i = i0; i <= i1; ++i) {
+                        const ClosestPoint cp = w.to_segment(a, mesh_.xc(i), mesh_.yc(j));
+                        if (cp.distance >= reach) continue;
+                        Nearest& nb = nearest_[at(i, j)];
+                        if (nb.a < 0) sd.near.push_back(at(i, j));
+                        if (cp.distance < nb.distance) nb = {cp.distance, a};
+                    }
+            }
+            sd.ghosts.clear();
+            const double band = band_cells_ * h();
+            for (const long c : sd.near) {
+                const int i = static_cast<int>(c % mesh_.nx), j = static_cast<int>(c / mesh_.nx);
+                const ClosestPoint cp = w.to_segment(nearest_[c].a, mesh_.xc(i), mesh_.yc(j));
+                nearest_[c] = Nearest{};
+                const double d = w.signed_distance(cp, mesh_.xc(i), mesh_.yc(j));
+                sd.phi[c] = d;
+                if (d >= 0 && d < band) sd.ghosts.push_back({i, j, cp.a, cp.t, cp.nx, cp.ny, -1, -1});
+            }
+        }
+        // Real cells; a cell on the fluid side of two faces means the faces cross.
+        for (int f = 0; f < w.faces(); ++f) {
+            Side& sd = *sides_[f];
+            for (const long c : sd.near)
+                for (int g = 0; g < w.faces(); ++g)
+                    if (g != f && sd.phi[c] < 0 && sides_[g]->phi[c] < 0) {
+                        std::ostringstream s;
+                        s << "cell (" << c % mesh_.nx << ", " << c / mesh_.nx
+                          << ") at x = " << mesh_.xc(c % mesh_.nx)
+                          << ", y = " << mesh_.yc(static_cast<int>(c / mesh_.nx))
+                          << " lies on the fluid side of wet faces " << std::min(f, g) << " and "
+                          << std::max(f, g) << ": the faces cross (a structure turned inside out?)";
+                        fail(s.str());
+                    }
+            for (int j = 0; j < mesh_.ny; ++j)
+                for (int i = 0; i < mesh_.nx; ++i)
+                    sd.mask[mesh_.index(i, j)] = sd.phi[at(i, j)] < 0;
+            sd.scheme->active_changed();
+            // Each ghost cell's source: the first real cell along the normal from its closest point.
+            for (Ghost& g : sd.ghosts) {
+                const double cx = w.x(g.a) + g.t * (w.x(g.a + 1) - w.x(g.a));
+                const double cy = w.y(g.a) + g.t * (w.y(g.a + 1) - w.y(g.a));
+                if (!first_real(f, cx, cy, g.nx, g.ny, g.si, g.sj)) g.si = g.sj = -1;
+            }
+        }
+    }
+
+    // The ghost band of face f in stage coefficients U (called by the scheme at every stage).
+    void fill_band(int f, double* U) const {
+        const S& sc = *sides_[f]->scheme;
+        for (const Ghost& g : sides_[f]->ghosts) {
+            if (g.si < 0) continue; // no fluid next to it: keeps its last state
+            const Primitive s = sc.average_in(U, g.si, g.sj);
+            const double p_I = (1 - g.t) * p_I_[g.a] + g.t * p_I_[g.a + 1];
+            const double u_I = (1 - g.t) * u_I_[g.a] + g.t * u_I_[g.a + 1];
+            const double un = s.u * g.nx + s.v * g.ny;
+            const double rho = sc.eos().wall_density(s.rho, s.p, p_I);
+            sc.set_state_in(U, g.i, g.j, {rho, s.u + (u_I - un) * g.nx, s.v + (u_I - un) * g.ny, p_I});
+        }
+    }
+};
+
+} // namespace undex::fluid
