@@ -9,7 +9,8 @@ transmissive sides. The plate: length 0.4 m (41 nodes, 0.01 m apart), thickness 
 faces (--faces 1: the front face only), face 0's centre at the origin (on a cell corner: "on a cell face")
 or 0.3 Δx from it along the normal, at θ = 0°, 30°, 45° to the x axis; it moves at V = 1 m/s into face 0's
 water from t = 0 (ρ0 c0 V = 1.54 MPa = 15 p0, so the acoustic answer dominates p0; the nonlinear
-correction (γ + 1) V / (4 c0) is 0.13 %). Degree 1, CFL 0.4, minmod.
+correction (γ + 1) V / (4 c0) is 0.13 %). Degree 1, CFL 0.4, minmod: Δt = 0.4 Δx / c0 = 2.6 µs, about 55 steps
+of 6 400 cells per run, six runs.
 
 Checks, from t0 = 4 Δx / c0 (the wave front, smeared over a few cells, has passed the probe 1.5 Δx out) to
 t1 = (L/2 − 3 Δx) / c0 (110 µs: the edge waves start at t = 0 from the plate's ends, L/2 away, and arrive
@@ -124,7 +125,7 @@ def main():
             hist = os.path.join(out, "moving_plate.h5")
             with h5py.File(hist, "r") as f:
                 c = f["coupling"]
-                ts, dts, pL, pI = c["t"][:], c["dt"][:], c["p_L"][:, NODES // 2], c["p_I"][:, NODES // 2]
+                ts, pL, pI = c["t"][:], c["p_L"][:, NODES // 2], c["p_I"][:, NODES // 2]
             w = (ts >= T0) & (ts <= T1)  # p_L: the fluid's state at the start of the step
             eL = float(np.max(np.abs(pL[w] - P0 - zv))) / zv if w.any() else float("inf")
             eI = float(np.max(np.abs(pI[w] - P0 - zv))) / zv if w.any() else float("inf")
