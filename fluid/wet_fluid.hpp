@@ -57,20 +57,25 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
             sides_.push_back(std::move(side));
         }
         // Every cell's sign, once: the distance to the whole face.
-        for (int f = 0; f < faces_->faces(); ++f) {
-            Side& sd = *sides_[f];
-#pragma omp parallel for schedule(static)
-            for (int j = 0; j < mesh_.ny; ++j)
-                for (int i = 0; i < mesh_.nx; ++i) {
-                    ClosestPoint best;
-                    for (int a = faces_->begin(f); a + 1 < faces_->end(f); ++a) {
-                        const ClosestPoint c = faces_->to_segment(a, mesh_.xc(i), mesh_.yc(j));
-                        if (c.distance < best.distance) best = c;
+        for (int f = 0; f < faces_->faces(); ++f)
+            far_signs(f, false);
+        // Each face's fluid is the side of that face; the sides of two faces must not meet (a plate with
+        // water on both faces spans the fluid domain from boundary to boundary). Where they would, the
+        // fluid runs around the structure's end, which this method does not model.
+        for (long c = 0; c < n; ++c)
+            for (int f = 0; f + 1 < faces_->faces(); ++f)
+                for (int g = f + 1; g < faces_->faces(); ++g)
+                    if (sides_[f]->phi[c] < 0 && sides_[g]->phi[c] < 0) {
+                        std::ostringstream s;
+                        s << "cell (" << c % mesh_.nx << ", " << c / mesh_.nx
+                          << ") at x = " << mesh_.xc(c % mesh_.nx)
+                          << ", y = " << mesh_.yc(static_cast<int>(c / mesh_.nx))
+                          << " lies on the fluid side of wet faces " << f << " and " << g
+                          << ": the water of two faces would meet around the structure's end; a structure "
+                             "wet on "
+                             "two faces must span the fluid domain from boundary to boundary";
+                        throw std::invalid_argument(s.str());
                     }
-                    const double d = faces_->signed_distance(best, mesh_.xc(i), mesh_.yc(j));
-                    sd.phi[at(i, j)] = d < 0 ? -far() : far();
-                }
-        }
         for (int f = 0; f < faces_->faces(); ++f) {
             Side& sd = *sides_[f];
             sd.scheme->set_active(&sd.mask);
@@ -89,9 +94,7 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         rebuild();
     }
 
-    const WetFaces& faces() const override {
-        return *faces_;
-    }
+    const WetFaces& faces() const override { return *faces_; }
 
     std::vector<WetSample> sample() const override {
         const WetFaces& w = *faces_;
@@ -148,24 +151,12 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
     }
 
     // ---- the fluid ----------------------------------------------------------------------------------
-    const Mesh& mesh() const override {
-        return mesh_;
-    }
-    int degree() const override {
-        return K;
-    }
-    int variables() const override {
-        return 4;
-    }
-    int basis_functions() const override {
-        return Basis<2, K>::NB;
-    }
-    double time() const override {
-        return first().time();
-    }
-    long steps() const override {
-        return first().steps();
-    }
+    const Mesh& mesh() const override { return mesh_; }
+    int degree() const override { return K; }
+    int variables() const override { return 4; }
+    int basis_functions() const override { return Basis<2, K>::NB; }
+    double time() const override { return first().time(); }
+    long steps() const override { return first().steps(); }
     double stable_dt() const override {
         if (sides_.empty()) return base_->stable_dt();
         double dt = std::numeric_limits<double>::infinity();
@@ -215,12 +206,8 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         if (sides_.empty()) return base_->cell_average(i, j);
         return sides_[owner(at(i, j))]->scheme->cell_average(i, j);
     }
-    double void_fraction(double p) const override {
-        return first().void_fraction(p);
-    }
-    bool has_cavitation() const override {
-        return first().has_cavitation();
-    }
+    double void_fraction(double p) const override { return first().void_fraction(p); }
+    bool has_cavitation() const override { return first().has_cavitation(); }
     double cell_void_fraction(int i, int j) const override {
         if (sides_.empty()) return base_->cell_void_fraction(i, j);
         return sides_[owner(at(i, j))]->scheme->cell_void_fraction(i, j);
@@ -251,18 +238,12 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         const Primitive w = evaluate(x, y);
         return first().eos().sound_speed(w.rho, w.p);
     }
-    double pressure_floor() const override {
-        return first().pressure_floor();
-    }
+    double pressure_floor() const override { return first().pressure_floor(); }
     void set_structure_state(double, double) override {}
 
     // Whether interior cell (i, j) is real for face f (for tests).
-    bool real(int f, int i, int j) const {
-        return sides_[f]->phi[at(i, j)] < 0;
-    }
-    double phi(int f, int i, int j) const {
-        return sides_[f]->phi[at(i, j)];
-    }
+    bool real(int f, int i, int j) const { return sides_[f]->phi[at(i, j)] < 0; }
+    double phi(int f, int i, int j) const { return sides_[f]->phi[at(i, j)]; }
 
   private:
     // A ghost cell of a face: where it is, its closest point on the face (segment a, parameter t, normal n)
@@ -293,22 +274,12 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
     std::vector<double> p_I_, u_I_;
     bool interface_set_ = false;
 
-    long cells() const {
-        return static_cast<long>(mesh_.nx) * mesh_.ny;
-    }
-    long at(int i, int j) const {
-        return static_cast<long>(j) * mesh_.nx + i;
-    }
-    double h() const {
-        return std::max(mesh_.dx, mesh_.dy);
-    }
+    long cells() const { return static_cast<long>(mesh_.nx) * mesh_.ny; }
+    long at(int i, int j) const { return static_cast<long>(j) * mesh_.nx + i; }
+    double h() const { return std::max(mesh_.dx, mesh_.dy); }
     // |φ| beyond the cells whose distance is computed.
-    double far() const {
-        return (band_cells_ + 2) * h();
-    }
-    const S& first() const {
-        return sides_.empty() ? *base_ : *sides_[0]->scheme;
-    }
+    double far() const { return (band_cells_ + 2) * h(); }
+    const S& first() const { return sides_.empty() ? *base_ : *sides_[0]->scheme; }
     template <class F> long sum(F&& f) const {
         if (sides_.empty()) return f(*base_);
         long n = 0;
@@ -368,6 +339,38 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         return true;
     }
 
+    // Whether both ends of face f lie on the domain's boundary: the face then splits the domain, and cells
+    // farther than far() from it keep their side while it moves less than a cell per step. A face that ends
+    // inside the domain has a side whose border beyond its ends (the extension of its end segments) sweeps
+    // through far cells as it moves: their signs are recomputed every step, at the cost of every cell times
+    // every segment of the face.
+    bool spans(int f) const {
+        const WetFaces& w = *faces_;
+        const double tol = 1e-9 * std::max(mesh_.x_max - mesh_.x_min, mesh_.y_max - mesh_.y_min);
+        auto edge = [&](int k) {
+            return std::abs(w.x(k) - mesh_.x_min) <= tol || std::abs(w.x(k) - mesh_.x_max) <= tol ||
+                   std::abs(w.y(k) - mesh_.y_min) <= tol || std::abs(w.y(k) - mesh_.y_max) <= tol;
+        };
+        return edge(w.begin(f)) && edge(w.end(f) - 1);
+    }
+    // ±far() in the cells of face f beyond the band (all cells: every cell), by the closest point of the
+    // whole face.
+    void far_signs(int f, bool beyond_band_only) {
+        Side& sd = *sides_[f];
+#pragma omp parallel for schedule(static)
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i) {
+                if (beyond_band_only && std::abs(sd.phi[at(i, j)]) < far()) continue;
+                ClosestPoint best;
+                for (int a = faces_->begin(f); a + 1 < faces_->end(f); ++a) {
+                    const ClosestPoint c = faces_->to_segment(a, mesh_.xc(i), mesh_.yc(j));
+                    if (c.distance < best.distance) best = c;
+                }
+                const double d = faces_->signed_distance(best, mesh_.xc(i), mesh_.yc(j));
+                sd.phi[at(i, j)] = d < 0 ? -far() : far();
+            }
+    }
+
     // φ of every face near its segments, the real cells and the ghost bands, from the current positions.
     void rebuild() {
         const WetFaces& w = *faces_;
@@ -408,10 +411,20 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
                 if (d >= 0 && d < band) sd.ghosts.push_back({i, j, cp.a, cp.t, cp.nx, cp.ny, -1, -1});
             }
         }
-        // Real cells; a cell on the fluid side of two faces means the faces cross.
+        bool all_span = true;
+        for (int f = 0; f < w.faces(); ++f)
+            if (!spans(f)) far_signs(f, true), all_span = false;
+        std::vector<long> every;
+        if (!all_span) {
+            every.resize(cells());
+            for (long c = 0; c < cells(); ++c)
+                every[c] = c;
+        }
+        // Real cells; a cell on the fluid side of two faces means the faces cross (or, for faces that end
+        // inside the domain, that the water of both meets around an end).
         for (int f = 0; f < w.faces(); ++f) {
             Side& sd = *sides_[f];
-            for (const long c : sd.near)
+            for (const long c : all_span ? sd.near : every)
                 for (int g = 0; g < w.faces(); ++g)
                     if (g != f && sd.phi[c] < 0 && sides_[g]->phi[c] < 0) {
                         std::ostringstream s;

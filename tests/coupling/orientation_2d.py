@@ -76,7 +76,7 @@ structure {{
   front {{ type: FLUID }}
   back {{ type: {back} }}
 }}
-numerics {{ degree: 1 cfl: 0.4 limiter: "minmod" }}
+numerics {{ degree: 1 cfl: 0.2 limiter: "minmod" threads: 1 }}
 gauges {{ name: "centre" x: {probe[0]!r} y: {probe[1]!r} }}
 end_time: {END!r}
 output {{ times: [{T1!r}] progress_seconds: 30 directory: "{out}" }}
