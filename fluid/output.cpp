@@ -55,6 +55,11 @@ void Output::write_fields(const FluidSolver& solver, bool last_good) {
     write_attr<double>(g, "time", solver.time());
     write_attr<long>(g, "step", solver.steps());
     write_attr<long>(g, "last_good", last_good ? 1 : 0);
+    // ∫ U dx over the fluid (planar measure): mass, momentum, total energy; the energy balance of a coupled
+    // run compares their change with the work on the structure.
+    const std::vector<double> tot = solver.totals();
+    write_attr<double>(g, "mass", tot[0]);
+    write_attr<double>(g, "energy", tot.back());
     const long n = static_cast<long>(nx_) * ny_;
     std::vector<double> rho(n), u(n), v(n), p(n), alpha(cavitation_ ? n : 0);
     for (int j = 0; j < ny_; ++j)

@@ -2,7 +2,8 @@
 //   datasets    case (text of the case after overrides), status ("running", "complete" or "failed:
 //               <message>"): scalar fixed-length strings, null-padded (base/h5.hpp)
 //   attributes  dim, nx, ny, degree, variables, basis_functions, x_min, x_max, y_min, y_max
-//   /fields/NNNNNN   attributes time, step, last_good (1 for the state written after a failure);
+//   /fields/NNNNNN   attributes time, step, last_good (1 for the state written after a failure), mass and
+//                    energy (∫ρ and ∫E over the fluid, planar measure);
 //                    rho, u, v, p [, void_fraction] [, phi] [, phi_s]: cell averages (phi: level set of two
 //                    fluids; phi_s: signed distance to the structure's nearest wet face, < 0 in the fluid,
 //                    ±(band + 2 cells) beyond where it is computed; inside the structure the other fields
