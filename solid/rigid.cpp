@@ -75,6 +75,7 @@ class RigidRun : public Run {
     RigidRun(const CaseFile& c, const RunPlan& p, const RigidPlateModel& m,
              std::unique_ptr<coupling::StructureParticipant> link)
         : m_(m), link_(std::move(link)), out_(p.directory, c.text()), area_(areas(m)) {
+        if (!area_.empty()) total_area_ = 0;
         for (double a : area_)
             total_area_ += a;
         out_.plate.insert(out_.plate.end(), {t_, x_, v_, m_.back_pressure});
