@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """The structure side of 2D coupling over real sockets (issue 15, items 3 and 5): this script plays a 2D fluid
-against undex-solid (a plane-strain plate wet on both faces, clamped; the same plate axisymmetric from the
-axis, wet in front) and undex-rigid (an axisymmetric rigid face of five nodes), with a fluid state that
+against undex-solid (a plane-strain plate wet on both faces, clamped; the same wet on its back only; the
+same plate axisymmetric from the axis, wet in front) and undex-rigid (an axisymmetric rigid face of five nodes), with a fluid state that
 changes in space and time (a spell of tension makes some nodes cavitate). From its own side of the messages
 only, as the fluid does (docs/protocol.md):
 
+- the Hello's faces in the contract's order (front = face 0 with normal +y, back = face 1 with normal −y, or
+  face 0 when wet alone), each node at its face's y in the fluid's frame, x increasing along a face;
 - the Hello's areas and normals are those of the area vectors of its positions, recomputed here;
 - each Offer starts where the last Answer ended;
 - u_I is each node's motion over the step along its normal n_k of the start of the step, n_k recomputed here
@@ -72,7 +74,7 @@ def fluid_state(step, x, face):
     return p_L, u_L, [1.5e6] * len(x), [1e3 * xi for xi in x]
 
 
-def run(name, command, out):
+def run(name, command, out, layout):
     ctx = zmq.Context.instance()
     sock = ctx.socket(zmq.PAIR)
     sock.setsockopt(zmq.LINGER, 0)
@@ -106,6 +108,11 @@ def run(name, command, out):
         check(h.dimension == 2 and worst < 1e-12,
               f"{name}: Hello of {len(A)} nodes on {max(face) + 1} face(s): areas and normals of its positions "
               f"(worst {worst:.1e})", f"dimension {h.dimension}")
+        # The contract's layout: per face its y and normal_y, the nodes in order of increasing x.
+        got = [(face[k], h.y[k], h.normal_x[k], h.normal_y[k]) for k in range(len(face))]
+        want = [(f, y, 0.0, ny) for f, (y, ny, count) in enumerate(layout) for _ in range(count)]
+        check(got == want and all(face[k] != face[k + 1] or h.x[k] < h.x[k + 1] for k in range(len(face) - 1)),
+              f"{name}: faces, their y and normals as the contract orders them: {layout}", f"{got}")
         send(0, welcome=pb.Welcome(solver="structure_2d_work.py", version="1", end_time=1.0))
         work, time, u_max, worst_u, worst_p, cavitating, moved = 0.0, 0.0, 0.0, 0.0, 0.0, 0, ""
         last = None
@@ -156,11 +163,16 @@ def run(name, command, out):
 
 os.makedirs(WORK, exist_ok=True)
 plate = os.path.join(TESTS, "cases", "plate_2d.case")
-run("solid-planar", [os.path.join(BIN, "undex-solid"), plate], os.path.join(WORK, "solid-planar"))
+# plate_2d.case: front (face 0) at y = -5 mm, normal +y; back (face 1) at +5 mm, normal −y; 5 nodes each.
+run("solid-planar", [os.path.join(BIN, "undex-solid"), plate], os.path.join(WORK, "solid-planar"),
+    [(-0.005, 1.0, 5), (0.005, -1.0, 5)])
+# Wet on the back only: face 0 is the back.
+run("solid-back-only", [os.path.join(BIN, "undex-solid"), plate, "--set", "structure.front.type=FREE"],
+    os.path.join(WORK, "solid-back-only"), [(0.005, -1.0, 5)])
 run("solid-axisymmetric",
     [os.path.join(BIN, "undex-solid"), plate, "--set", "geometry=AXISYMMETRIC_2D", "--set",
      "structure.plate.left.type=SYMMETRY", "--set", "structure.back.type=FREE"],
-    os.path.join(WORK, "solid-axisymmetric"))
+    os.path.join(WORK, "solid-axisymmetric"), [(-0.005, 1.0, 5)])
 run("rigid-axisymmetric", [os.path.join(BIN, "undex-rigid"), os.path.join(TESTS, "cases", "rigid_plate_2d.case")],
-    os.path.join(WORK, "rigid-axisymmetric"))
+    os.path.join(WORK, "rigid-axisymmetric"), [(0.0, 1.0, 5)])
 finish()
