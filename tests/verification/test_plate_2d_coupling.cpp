@@ -93,6 +93,47 @@ TEST(PlateCoupling, KinkedFaceAreaIsTheLengthOfTheAreaVector) {
     }
 }
 
+// The first step from rest, on the kinked face above (normals tilted by atan(s) at its ends): no internal
+// force yet, so each wet node's equation of motion is m Δv = h A c p_I along its free direction, h = Δt/2.
+// The middle node is free: v = h A p_I n / m. The left end is held in x (a symmetry plane): v = (0, h A n_y
+// p_I / m), with p_I = p_L − Z_L (n_y v_y − u_L) − g. The right end is clamped: v = 0 and p_I = p_L + Z_L u_L
+// − g. References from these closed forms (the left end's p_I from its own linear equation); bound 1e-14
+// relative: round-off.
+TEST(PlateCoupling, FirstStepFromRestMovesEachWetNodeAlongItsFreeDirection) {
+    const double s = 0.5, l = std::sqrt(1 + s * s);
+    QuadMesh m;
+    m.x = {-1, 0, 1, -1, 0, 1};
+    m.y = {0, s, 0, 2, 2, 2};
+    m.quads = {{0, 1, 4, 3}, {1, 2, 5, 4}};
+    m.law = {0, 0};
+    Plate2D plate(m, {steel()}, Plane::Strain);
+    plate.add_wet_face({0, 1, 2}, true);
+    plate.constrain(0, true, false);
+    plate.constrain(2, true, true);
+    const double dt = 0.5 * plate.stable_dt(), h = 0.5 * dt;
+    const FluidCharacteristic f{3e8, 2.0, 1.5e6, 1e4, 0};
+    const auto w = plate.wet_nodes();
+    const auto out = plate.step(dt, std::vector<FluidCharacteristic>(3, f));
+    // Free middle node: u_I along n = (0, 1), A = 1.
+    const double u1 =
+        h * w[1].area * (f.p_L + f.Z_L * f.u_L - f.geometric) / (plate.mass(1) + h * w[1].area * f.Z_L);
+    EXPECT_NEAR(plate.vy(1), u1, 1e-14 * u1);
+    EXPECT_NEAR(plate.vy(1), h * w[1].area * out[1].p_I / plate.mass(1), 1e-14 * u1);
+    EXPECT_NEAR(plate.vx(1), 0.0, 1e-14 * u1);
+    // Left end, free along y only: c = n_y = 1/ℓ, A = ℓ/2.
+    const double A0 = 0.5 * l, c = 1 / l, m0 = plate.mass(0);
+    const double v0 = h * A0 * c * (f.p_L + f.Z_L * f.u_L - f.geometric) / (m0 + h * A0 * f.Z_L * c * c);
+    EXPECT_EQ(plate.vx(0), 0.0);
+    EXPECT_NEAR(plate.vy(0), v0, 1e-14 * v0);
+    EXPECT_NEAR(out[0].u_I, c * v0, 1e-14 * v0);
+    EXPECT_NEAR(out[0].p_I, f.p_L - f.Z_L * (c * v0 - f.u_L) - f.geometric, 1e-14 * f.p_L);
+    // Clamped right end.
+    EXPECT_EQ(plate.vx(2), 0.0);
+    EXPECT_EQ(plate.vy(2), 0.0);
+    EXPECT_EQ(out[2].u_I, 0.0);
+    EXPECT_NEAR(out[2].p_I, f.p_L + f.Z_L * f.u_L - f.geometric, 1e-15 * f.p_L);
+}
+
 // The coupled step of a plate wet on both faces under a fluid that changes every step (pressures that
 // bend it, a fluid velocity, a geometric term, and a spell of tension on the back that cavitates it):
 //  - every wet node keeps the impedance relation p_I = p_L − Z_L (u_I − u_L) − g, or holds p_floor;
