@@ -206,7 +206,9 @@ RigidPlateModel make_rigid_plate(const CaseFile& cf) {
     if (st.back().type() != cfg::SolidFace::FREE)
         cf.fail("structure.back.type", "a rigid plate's back face is FREE (its back_pressure acts there)");
     const auto& r = st.rigid_plate(); // its numbers are within their ranges (validate_plan)
-    RigidPlateModel m{r.mass_per_area(), r.stiffness(), r.damping(), r.back_pressure(), 0};
+    RigidPlateModel m;
+    m.mass_per_area = r.mass_per_area(), m.stiffness = r.stiffness(), m.damping = r.damping();
+    m.back_pressure = r.back_pressure();
     if (two_d) {
         const auto& pl = st.plate();
         const bool axi = c.geometry() == cfg::AXISYMMETRIC_2D;

@@ -190,8 +190,12 @@ TEST(PlateCoupling, WetNodesKeepTheImpedanceRelationAndTheWorkIdentity) {
                     EXPECT_GE(a.p_I, p_floor);
                 }
                 const int i = plate.wet_node(k);
-                if (plate.node_x(i) == 0.5) EXPECT_EQ(a.u_I, 0.0); // clamped rim
-                if (plate.node_x(i) == 0.0 && plane == Plane::Axisymmetric) EXPECT_EQ(plate.ux(i), 0.0);
+                if (plate.node_x(i) == 0.5) {
+                    EXPECT_EQ(a.u_I, 0.0); // clamped rim
+                }
+                if (plate.node_x(i) == 0.0 && plane == Plane::Axisymmetric) {
+                    EXPECT_EQ(plate.ux(i), 0.0); // on the axis
+                }
             }
         }
         const double external = plate.energies().external;
@@ -236,8 +240,10 @@ TEST(PlateCoupling, UniformPressureGivesTheMomentumOfItsResultant) {
         std::printf("%s: momentum %.12e, p Σ h S %.12e (relative %.1e), x momentum %.1e\n",
                     plane == Plane::Strain ? "plane strain" : "axisymmetric", P, impulse,
                     std::abs(P - impulse) / impulse, Px / impulse);
-        EXPECT_NEAR(P, impulse, 1e-15 * impulse);                             // measured 4.1e-16
-        if (plane == Plane::Strain) EXPECT_LT(std::abs(Px), 1e-17 * impulse); // measured 1.2e-18
+        EXPECT_NEAR(P, impulse, 1e-15 * impulse); // measured 4.1e-16
+        if (plane == Plane::Strain) {
+            EXPECT_LT(std::abs(Px), 1e-17 * impulse); // measured 1.2e-18
+        }
     }
 }
 
@@ -290,8 +296,9 @@ TEST(PlateCoupling, RigidFaceSolvesEveryNodeWithTheBody) {
     double force = F;
     for (size_t k = 0; k < 3; ++k) {
         EXPECT_NEAR(s[k].u_I, u, 1e-12 * u);
-        if (!s[k].cavitating)
+        if (!s[k].cavitating) {
             EXPECT_NEAR(s[k].p_I, f[k].p_L - f[k].Z_L * (u - f[k].u_L) - f[k].geometric, 1e-12 * 2e7);
+        }
         force += A[k] * s[k].p_I;
     }
     EXPECT_NEAR(m * (s[0].u_I - u0), h * force, 1e-12 * h * std::abs(force));
