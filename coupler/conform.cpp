@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include <iostream>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 namespace undex::coupling {
 
@@ -115,7 +117,61 @@ std::string hello_problems(const Envelope& e) {
             }
         }
     if (!finite_all(h.x()) || !finite_all(h.y())) s << "non-finite positions; ";
+    if (h.face_size() != 0 && h.face_size() != n)
+        s << "Hello.face has " << h.face_size() << " values for " << n << " nodes; ";
     return s.str();
+}
+
+// The faces of a Hello (docs/protocol.md): numbered 0, 1, ... with their nodes consecutive; in 2D at least
+// two nodes each, and each node's area and normal those of its area vector a_k = Σ n_s ∫_s N_k r ds over the
+// segments joining consecutive nodes of its face (r = x when alpha = 1, else 1), to 1e-9. "" when they are.
+std::string face_problems(const wire::Hello& h) {
+    const int n = h.x_size();
+    std::vector<int> face(n, 0);
+    for (int k = 0; k < h.face_size(); ++k)
+        face[k] = h.face(k);
+    for (int k = 0; k < n; ++k) {
+        const int previous = k == 0 ? 0 : face[k - 1];
+        if (face[k] != previous && face[k] != previous + 1)
+            return "node " + std::to_string(k) + " lies on face " + std::to_string(face[k]) +
+                   " after a node of face " + std::to_string(previous) +
+                   " (faces 0, 1, ..., their nodes consecutive)";
+    }
+    if (h.dimension() != 2) return "";
+    std::ostringstream s;
+    for (int k = 0; k < n;) { // one face: nodes k to e − 1
+        int e = k + 1;
+        while (e < n && face[e] == face[k])
+            ++e;
+        if (e - k < 2) return "face " + std::to_string(face[k]) + " has one node (a 2D face needs a segment)";
+        std::vector<double> ax(e - k, 0.0),
+            ay(e - k, 0.0); // normal to the left of the direction of the nodes
+        for (int j = k; j + 1 < e; ++j) {
+            const double xa = h.x(j), xb = h.x(j + 1), dx = xb - xa, dy = h.y(j + 1) - h.y(j);
+            const double sa = h.alpha() == 1 ? (2 * xa + xb) / 6 : 0.5,
+                         sb = h.alpha() == 1 ? (xa + 2 * xb) / 6 : 0.5;
+            ax[j - k] += -dy * sa, ay[j - k] += dx * sa;
+            ax[j + 1 - k] += -dy * sb, ay[j + 1 - k] += dx * sb;
+        }
+        // The structure's side: the one the Hello's normals point to.
+        double side = 0;
+        for (int j = k; j < e; ++j)
+            side += h.normal_x(j) * ax[j - k] + h.normal_y(j) * ay[j - k];
+        const double sign = side < 0 ? -1.0 : 1.0;
+        for (int j = k; j < e; ++j) {
+            const double A = std::hypot(ax[j - k], ay[j - k]);
+            const double nx = sign * ax[j - k] / A, ny = sign * ay[j - k] / A;
+            if (!(std::abs(h.area(j) - A) <= 1e-9 * A) ||
+                !(std::hypot(h.normal_x(j) - nx, h.normal_y(j) - ny) <= 1e-9)) {
+                s << "node " << j << " of face " << face[k] << ": area " << h.area(j) << ", normal ("
+                  << h.normal_x(j) << ", " << h.normal_y(j) << "), but its face's segments give " << A
+                  << ", (" << nx << ", " << ny << ")";
+                return s.str();
+            }
+        }
+        k = e;
+    }
+    return "";
 }
 
 Envelope welcome() {
@@ -161,8 +217,14 @@ struct Sessions {
 
 // What a solver got wrong during the full run, per kind of message.
 struct RunProblems {
-    std::string offer, answer, sign;
+    std::string offer, answer, sign, motion;
     int bad_answers = 0; // answers that break the interface condition
+};
+
+// The interface of the Hello: areas for the sign check.
+struct HelloNodes {
+    int n = -1;
+    std::vector<double> area;
 };
 
 constexpr int full_run_steps = 30;
@@ -207,27 +269,44 @@ bool check_answer(const wire::Answer& an, int step, int n, double p_L, RunProble
     return true;
 }
 
-// The handshake: the number of interface nodes of a good Hello, or -1 (the failed check reported).
-int handshake(Channel& c, Report& r) {
+// The handshake: the interface nodes of a good Hello (n = -1: the failed check reported).
+HelloNodes handshake(Channel& c, Report& r) {
     Envelope h;
     try {
         h = c.receive(0, Envelope::kHello);
     } catch (const CouplingError& e) {
         r.check(false, "sends a Hello after connecting", e.what());
-        return -1;
+        return {};
     }
     const std::string hp = hello_problems(h);
     r.check(hp.empty(), "Hello: dimension, alpha, one position, unit normal and positive area per node", hp);
-    if (!hp.empty()) return -1;
+    if (!hp.empty()) return {};
+    const auto& hello = h.hello();
+    int faces = 0;
+    for (int f : hello.face())
+        faces = std::max(faces, f + 1);
+    const std::string fp = face_problems(hello);
+    r.check(fp.empty(),
+            "Hello: faces numbered 0, 1, ..., nodes consecutive" +
+                std::string(hello.dimension() == 2 ? "; areas and normals those of the faces' segments (2D)"
+                                                   : "") +
+                " (dimension " + std::to_string(hello.dimension()) + ", alpha " +
+                std::to_string(hello.alpha()) + ", " + std::to_string(hello.x_size()) + " node(s) on " +
+                std::to_string(std::max(faces, 1)) + " face(s))",
+            fp);
+    if (!fp.empty()) return {};
     Envelope w = welcome();
     c.send(w);
-    return h.hello().x_size();
+    return {hello.x_size(), {hello.area().begin(), hello.area().end()}};
 }
 
-// The steps of the full run: 30, the last 20 under a 2 MPa pulse. Throws CouplingError.
-RunProblems run_steps(Channel& c, int n) {
+// The steps of the full run: 30, the last 20 under a 2 MPa pulse. Each Offer's positions are those the last
+// Answer gave (the start of a step is the end of the one before). Throws CouplingError.
+RunProblems run_steps(Channel& c, const HelloNodes& hello) {
+    const int n = hello.n;
     RunProblems p;
-    double time = 0, u_last = 0;
+    double time = 0, rise = 0;
+    std::vector<double> x_end, y_end; // of the last Answer
     for (int step = 1; step <= full_run_steps; ++step) {
         const Envelope o = c.receive(step, Envelope::kOffer);
         if (o.has_stop()) {
@@ -235,6 +314,17 @@ RunProblems run_steps(Channel& c, int n) {
             break;
         }
         check_offer(o.offer(), step, n, p);
+        const auto& of = o.offer();
+        if (p.motion.empty() && !x_end.empty() && of.x_size() == n && of.y_size() == n)
+            for (int k = 0; k < n; ++k)
+                if (of.x(k) != x_end[k] || of.y(k) != y_end[k]) {
+                    std::ostringstream m;
+                    m << "step " << step << ", node " << k << ": offered at (" << of.x(k) << ", " << of.y(k)
+                      << ") but the Answer of step " << step - 1 << " ended at (" << x_end[k] << ", "
+                      << y_end[k] << ")";
+                    p.motion = m.str();
+                    break;
+                }
         const double dt = std::min(o.offer().dt() > 0 ? o.offer().dt() : 1e-7, 1e-7);
         const double p_L = step > 10 ? 2e6 : 1e5; // a 2 MPa pulse from step 11
         Envelope g = grant(step, n, dt, time, p_L);
@@ -245,12 +335,20 @@ RunProblems run_steps(Channel& c, int n) {
             break;
         }
         if (!check_answer(a.answer(), step, n, p_L, p)) continue;
-        u_last = a.answer().u_i(0);
+        // The push of the pressure: Σ A_k u_I,k on the step it rises (a clamped node does not move; a rigid
+        // face moves as one). Later the structure may spring back (a thin plate rings).
+        double push = 0;
+        for (int k = 0; k < n; ++k)
+            push += hello.area[k] * a.answer().u_i(k);
+        if (step == 10) rise = push;
+        if (step == 11) rise = push - rise;
+        x_end.assign(a.answer().x().begin(), a.answer().x().end());
+        y_end.assign(a.answer().y().begin(), a.answer().y().end());
         time += dt;
     }
-    if (p.offer.empty() && p.answer.find("Stop") == std::string::npos && !(u_last > 0))
-        p.sign = "after 20 steps of 2 MPa on the wet face u_I = " + std::to_string(u_last) +
-                 " m/s: pressure must push the structure along n (from the fluid into it)";
+    if (p.offer.empty() && p.answer.find("Stop") == std::string::npos && !(rise > 0))
+        p.sign = "when p_L rose from 0.1 to 2 MPa (step 11) Σ A_k u_I,k changed by " + std::to_string(rise) +
+                 ": pressure must push the structure along n (from the fluid into it)";
     if (p.bad_answers > 1) p.answer += " (and in " + std::to_string(p.bad_answers - 1) + " more answers)";
     return p;
 }
@@ -260,11 +358,13 @@ RunProblems run_steps(Channel& c, int n) {
 bool check_full_run(Sessions& s, Report& r) {
     Channel c(s.next_endpoint(), Channel::Role::Bind, "the solver", s.ms());
     Subject solver(s.command, c.endpoint(), s.log());
-    const int n = handshake(c, r);
-    if (n < 0) return false;
+    const HelloNodes hello = handshake(c, r);
+    if (hello.n < 0) return false;
     try {
-        const RunProblems p = run_steps(c, n);
+        const RunProblems p = run_steps(c, hello);
         r.check(p.offer.empty(), "Offers: steps numbered 1, 2, ...; dt_s > 0; one value per node", p.offer);
+        r.check(p.motion.empty(), "Offers: each step starts where the last Answer's positions ended",
+                p.motion);
         r.check(p.answer.empty(),
                 "Answers: one finite p_I, u_I, x, y per node; p_I ≥ p_floor; p_I = p_L − Z_L (u_I − u_L) "
                 "− geometric",

@@ -111,7 +111,7 @@ class Column1D : public Structure {
         std::vector<WetNode> w;
         const size_t n = x_.size();
         if (wet_[0]) w.push_back({x_[0] + u_[0], 0.0, 1.0, 0.0, 1.0, v_[0]});
-        if (wet_[1]) w.push_back({x_[n - 1] + u_[n - 1], 0.0, -1.0, 0.0, 1.0, -v_[n - 1]});
+        if (wet_[1]) w.push_back({x_[n - 1] + u_[n - 1], 0.0, -1.0, 0.0, 1.0, -v_[n - 1], wet_[0] ? 1 : 0});
         return w;
     }
     std::vector<InterfaceSolution> step(double dt, std::span<const FluidCharacteristic> fluid) override {

@@ -9,7 +9,20 @@
 //     u_I = [m u⁻ + h (F + A (p_L + Z_L u_L − g))] / (m + h A Z_L).
 // The fluid cannot pull harder than p_floor (cavitation): if p_I falls below it, p_I = p_floor and the node
 // moves under that pressure alone.
+//
+// A rigid face of many wet nodes (solve_rigid_face) moves as one body of mass m along the common normal n:
+// every node has the same u_I, and node k of area A_k obeys its own impedance relation, so
+//     m (u_I − u⁻) = h (F + Σ_k A_k p_I,k),   p_I,k = p_L,k − Z_L,k (u_I − u_L,k) − g_k,
+// again linear in u_I:
+//     u_I = [m u⁻ + h (F + Σ_k A_k (p_L,k + Z_L,k u_L,k − g_k))] / (m + h Σ_k A_k Z_L,k).
+// A node whose p_I,k falls below p_floor holds p_floor and leaves the sum over Z; u_I then rises, which can
+// only lower the other nodes' pressures, so the set of such nodes grows until it is settled (at most one
+// pass per node).
 #pragma once
+
+#include <span>
+#include <stdexcept>
+#include <vector>
 
 namespace undex::solid {
 
@@ -31,6 +44,37 @@ inline InterfaceSolution solve_interface_node(double m, double u_minus, double h
         s.p_I = f.p_floor;
         s.u_I = u_minus + h * (F + A * s.p_I) / m;
         s.cavitating = true;
+    }
+    return s;
+}
+
+// The rigid face above: the interface pressure and the common velocity u_I of each node.
+inline std::vector<InterfaceSolution> solve_rigid_face(double m, double u_minus, double h, double F,
+                                                       std::span<const double> A,
+                                                       std::span<const FluidCharacteristic> f) {
+    if (A.size() != f.size()) throw std::invalid_argument("solve_rigid_face: one area per fluid state");
+    std::vector<InterfaceSolution> s(A.size());
+    for (bool settled = false; !settled;) {
+        double num = m * u_minus + h * F, den = m;
+        for (size_t k = 0; k < A.size(); ++k) {
+            if (s[k].cavitating) {
+                num += h * A[k] * f[k].p_floor;
+            } else {
+                num += h * A[k] * (f[k].p_L + f[k].Z_L * f[k].u_L - f[k].geometric);
+                den += h * A[k] * f[k].Z_L;
+            }
+        }
+        const double u = num / den;
+        settled = true;
+        for (size_t k = 0; k < A.size(); ++k) {
+            s[k].u_I = u;
+            if (s[k].cavitating) {
+                s[k].p_I = f[k].p_floor;
+                continue;
+            }
+            s[k].p_I = f[k].p_L - f[k].Z_L * (u - f[k].u_L) - f[k].geometric;
+            if (s[k].p_I < f[k].p_floor) s[k].cavitating = true, settled = false;
+        }
     }
     return s;
 }

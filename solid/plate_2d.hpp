@@ -40,7 +40,7 @@ struct QuadMesh {
 };
 
 // A layered plate on a structured mesh: x from x0 over the span (nx elements), y through the thickness from
-// the front face y = 0, each layer with its own element count. Node (i, j) is j * (nx + 1) + i.
+// the front face y = y0, each layer with its own element count. Node (i, j) is j * (nx + 1) + i.
 struct LayeredPlate {
     QuadMesh mesh;
     int nx = 0, ny = 0;
@@ -50,7 +50,7 @@ struct LayeredPlate {
 };
 
 inline LayeredPlate layered_plate(double x0, double span, int nx, const std::vector<double>& thickness,
-                                  const std::vector<int>& rows) {
+                                  const std::vector<int>& rows, double y0 = 0) {
     LayeredPlate p;
     p.nx = nx;
     std::vector<double> y = {0.0};
@@ -67,7 +67,7 @@ inline LayeredPlate layered_plate(double x0, double span, int nx, const std::vec
     for (int j = 0; j <= p.ny; ++j)
         for (int i = 0; i <= nx; ++i) {
             p.mesh.x.push_back(i == nx ? x0 + span : x0 + span * i / nx);
-            p.mesh.y.push_back(y[j]);
+            p.mesh.y.push_back(y0 + y[j]);
         }
     for (int j = 0; j < p.ny; ++j)
         for (int i = 0; i < nx; ++i) {
@@ -191,58 +191,67 @@ class Plate2D : public Structure {
     void add_pressure(std::vector<std::array<int, 2>> edges, std::function<double(double)> p) {
         loads_.push_back({std::move(edges), std::move(p)});
     }
-    // A face wetted by a fluid: boundary edges as for add_pressure. Its nodes become wet nodes.
-    void add_wet_face(const std::vector<std::array<int, 2>>& edges) {
-        require(!edges.empty(), "a wet face needs at least one edge");
+    // A face wetted by a fluid (docs/protocol.md): its nodes in order along it, with the structure on the
+    // left of that direction (structure_left) or on its right. Faces are numbered 0, 1, ... in the order they
+    // are added; the wet nodes are those of face 0 in order, then those of face 1, ...
+    void add_wet_face(const std::vector<int>& nodes, bool structure_left) {
+        require(nodes.size() >= 2, "a wet face needs at least two nodes");
         wet_index_.resize(X_.size(), -1);
-        for (const auto& e : edges) {
-            for (int i : e) {
-                require(i >= 0 && static_cast<size_t>(i) < X_.size(),
-                        "a wet edge names a node that does not exist");
-                if (wet_index_[i] < 0) wet_index_[i] = static_cast<int>(wet_.size()), wet_.push_back(i);
-            }
-            wet_edges_.push_back({wet_index_[e[0]], wet_index_[e[1]]});
+        for (int i : nodes) {
+            require(i >= 0 && static_cast<size_t>(i) < X_.size(),
+                    "a wet face names a node that does not exist");
+            require(wet_index_[i] < 0, "node " + std::to_string(i) + " lies on two wet faces");
+            wet_index_[i] = static_cast<int>(wet_.size());
+            wet_.push_back(i);
+            wet_face_.push_back(static_cast<int>(face_left_.size()));
         }
+        face_left_.push_back(structure_left);
+        wet_fx_.assign(wet_.size(), 0.0), wet_fy_.assign(wet_.size(), 0.0);
+        other_fx_.assign(wet_.size(), 0.0), other_fy_.assign(wet_.size(), 0.0);
     }
+    size_t wet_count() const { return wet_.size(); }
+    int wet_node(size_t k) const { return wet_[k]; } // the node number of wet node k
 
-    // Wet nodes on the current configuration. The area of a node is its share of its wet edges, with the
-    // weights the pressure loads use (half each in plane strain; (2 r_i + r_j) / 6 per unit length in
-    // axisymmetry, per radian), and its normal the normalised sum of those shares' inward normals.
+    // Wet nodes on the current configuration (docs/protocol.md): the area vector of node k is
+    // a_k = Σ n_s ∫_s N_k r ds over the segments s of its face that touch it, n_s the segment's unit normal
+    // into the structure, r = x in axisymmetry (per radian) and 1 in plane strain; for a segment a → b of
+    // length L that is n_s L / 2 to each end in plane strain and n_s L (2 r_a + r_b) / 6, n_s L (r_a + 2 r_b)
+    // / 6 in axisymmetry. The area is |a_k|, the normal a_k / |a_k|.
     std::vector<WetNode> wet_nodes() const override {
         std::vector<WetNode> w(wet_.size());
         const bool axi = plane_ == Plane::Axisymmetric;
-        for (const auto& edge : wet_edges_) {
-            const int i = wet_[edge[0]], j = wet_[edge[1]];
-            const double xi = X_[i] + ux_[i], xj = X_[j] + ux_[j];
-            const double dx = xj - xi, dy = Y_[j] + uy_[j] - Y_[i] - uy_[i];
-            const double si = axi ? (2 * xi + xj) / 6 : 0.5, sj = axi ? (xi + 2 * xj) / 6 : 0.5;
-            const double length = std::hypot(dx, dy);
-            for (const auto& [k, share] : {std::pair{edge[0], si}, std::pair{edge[1], sj}}) {
-                WetNode& n = w[k];
-                n.area += share * length;
-                n.normal_x += -dy * share, n.normal_y += dx * share; // inward: minus (Δy, −Δx)
-            }
+        for (size_t k = 0; k + 1 < wet_.size(); ++k) {
+            if (wet_face_[k] != wet_face_[k + 1]) continue; // the last node of a face
+            const int a = wet_[k], b = wet_[k + 1];
+            const double xa = X_[a] + ux_[a], xb = X_[b] + ux_[b];
+            const double dx = xb - xa, dy = Y_[b] + uy_[b] - Y_[a] - uy_[a];
+            // (−Δy, Δx) is the normal times L, on the left of a → b.
+            const double s = face_left_[wet_face_[k]] ? 1.0 : -1.0;
+            const double sa = axi ? (2 * xa + xb) / 6 : 0.5, sb = axi ? (xa + 2 * xb) / 6 : 0.5;
+            w[k].normal_x += -s * dy * sa, w[k].normal_y += s * dx * sa;
+            w[k + 1].normal_x += -s * dy * sb, w[k + 1].normal_y += s * dx * sb;
         }
         for (size_t k = 0; k < wet_.size(); ++k) {
             WetNode& n = w[k];
             const size_t i = wet_[k];
-            const double len = std::hypot(n.normal_x, n.normal_y);
-            if (!(len > 0)) // e.g. a node between two edges of opposite directions: no normal
-                throw StructureFailure("wet node " + std::to_string(i) +
-                                       " has no normal (its wet edges cancel)");
-            n.normal_x /= len, n.normal_y /= len;
+            n.area = std::hypot(n.normal_x, n.normal_y);
+            if (!(n.area > 0)) // e.g. a face folded back onto itself
+                throw StructureFailure("wet node " + std::to_string(i) + " (x = " + std::to_string(X_[i]) +
+                                       ", y = " + std::to_string(Y_[i]) +
+                                       " m) has no wetted area: its wet segments cancel");
+            n.normal_x /= n.area, n.normal_y /= n.area;
             n.x = X_[i] + ux_[i], n.y = Y_[i] + uy_[i];
             n.velocity = vx_[i] * n.normal_x + vy_[i] * n.normal_y;
+            n.face = wet_face_[k];
         }
         return w;
     }
+    // A step with the fluid's characteristic state at every wet node (none: a dry step).
     std::vector<InterfaceSolution> step(double dt, std::span<const FluidCharacteristic> fluid) override {
-        // The plate's wet nodes are reported (wet_nodes); solving them with the fluid's characteristic
-        // comes with the 2D fluid–structure coupling, and set-up refuses a FLUID face on a plate until then.
-        if (!fluid.empty())
-            throw std::invalid_argument("Plate2D::step: a fluid load on a plate is not available yet");
-        step(dt);
-        return {};
+        if (!fluid.empty() && fluid.size() != wet_.size())
+            throw std::invalid_argument("Plate2D::step: " + std::to_string(fluid.size()) +
+                                        " fluid states for " + std::to_string(wet_.size()) + " wet nodes");
+        return advance(dt, fluid.empty() ? nullptr : fluid.data());
     }
 
     // Largest stable step, without safety factor: min over elements of L_e / c_e with L_e the area over the
@@ -265,17 +274,43 @@ class Plate2D : public Structure {
 
     // One central-difference step, as in the 1D column. The state changes only after every increment is
     // finite and every element keeps positive corner areas; otherwise StructureFailure leaves it as it was.
-    void step(double dt) {
+    void step(double dt) { advance(dt, nullptr); }
+
+  private:
+    // The step; with a fluid (fluid[k] at wet node k) each wet node is solved with the interface condition
+    // along its normal n_k of the start of the step (physics.md §5, solid/interface_node.hpp), its load
+    // A_k p_I n_k, and the interface pressures and velocities are returned.
+    std::vector<InterfaceSolution> advance(double dt, const FluidCharacteristic* fluid) {
         const long n = static_cast<long>(X_.size()), ne = static_cast<long>(quads_.size());
         if (steps_ == 0) forces(time_);
         const double h = steps_ == 0 ? 0.5 * dt : 0.5 * (dt + last_dt_);
-        long nonfinite = -1;
-#pragma omp parallel for schedule(static) reduction(max : nonfinite) if (parallel_)
+#pragma omp parallel for schedule(static) if (parallel_)
         for (long i = 0; i < n; ++i) {
             dux_[i] = dt * (cx_[i] ? vx_[i] : vx_[i] + h * ax_[i]);
             duy_[i] = dt * (cy_[i] ? vy_[i] : vy_[i] + h * ay_[i]);
-            if (!std::isfinite(dux_[i]) || !std::isfinite(duy_[i])) nonfinite = std::max(nonfinite, i);
         }
+        std::vector<InterfaceSolution> out;
+        std::vector<double> load_x, load_y; // A_k p_I n_k, kept once the step is good
+        double fluid_work = 0;
+        if (fluid) {
+            const auto w = wet_nodes(); // areas and normals of the start of the step
+            out.resize(wet_.size());
+            load_x.resize(wet_.size()), load_y.resize(wet_.size());
+            for (size_t k = 0; k < wet_.size(); ++k) {
+                const int i = wet_[k];
+                const double nx = w[k].normal_x, ny = w[k].normal_y, A = w[k].area;
+                const WetMotion m = solve_wet_node(k, nx, ny, A, h, fluid[k]);
+                dux_[i] = dt * m.vx, duy_[i] = dt * m.vy;
+                out[k] = m.s;
+                out[k].u_I = nx * m.vx + ny * m.vy;
+                load_x[k] = A * m.s.p_I * nx, load_y[k] = A * m.s.p_I * ny;
+                fluid_work += load_x[k] * dux_[i] + load_y[k] * duy_[i];
+            }
+        }
+        long nonfinite = -1;
+#pragma omp parallel for schedule(static) reduction(max : nonfinite) if (parallel_)
+        for (long i = 0; i < n; ++i)
+            if (!std::isfinite(dux_[i]) || !std::isfinite(duy_[i])) nonfinite = std::max(nonfinite, i);
         if (nonfinite >= 0) {
             const long i = nonfinite;
             std::ostringstream s;
@@ -347,14 +382,24 @@ class Plate2D : public Structure {
         time_ += dt;
         last_dt_ = dt;
         ++steps_;
+        // The fluid's load of this step stays in the accelerations of the new state (for its kinetic energy
+        // and output); the next step solves it anew. Its work is F_k · Δx_k = A_k p_I u_I Δt.
+        if (fluid) {
+            wet_fx_.swap(load_x), wet_fy_.swap(load_y);
+        } else {
+            std::fill(wet_fx_.begin(), wet_fx_.end(), 0.0);
+            std::fill(wet_fy_.begin(), wet_fy_.end(), 0.0);
+        }
         forces(time_);
 #pragma omp parallel for schedule(static) reduction(+ : work) if (parallel_)
         for (long i = 0; i < n; ++i)
             work += wx_[i] * dux_[i] + wy_[i] * duy_[i];
-        en_.external += 0.5 * work;
+        en_.external += 0.5 * work + fluid_work;
         en_.kinetic = kinetic(dt);
+        return out;
     }
 
+  public:
     // Output (solid/run_structure.hpp lists the datasets).
     std::vector<Field> mesh_fields() const override {
         Field xy{"nodes", Field::Centre::Mesh, 2, {}, {}}, quads{"quads", Field::Centre::Mesh, 4, {}, {}},
@@ -455,9 +500,12 @@ class Plate2D : public Structure {
     std::vector<int> incidence_start_, incidence_;
     std::vector<Load> loads_;
     int grid_nx_ = 0, grid_ny_ = 0;
-    std::vector<int> wet_;                      // wet nodes in the order they were first named
-    std::vector<int> wet_index_;                // per node: its place in wet_, or −1
-    std::vector<std::array<int, 2>> wet_edges_; // as places in wet_
+    std::vector<int> wet_;                // wet nodes: face 0 in order along it, then face 1, ...
+    std::vector<int> wet_index_;          // per node: its place in wet_, or −1 (empty: no wet face)
+    std::vector<int> wet_face_;           // per wet node: its face
+    std::vector<char> face_left_;         // per face: the structure lies left of the direction of its nodes
+    std::vector<double> wet_fx_, wet_fy_; // per wet node: the fluid's load A p_I n of the last step
+    std::vector<double> other_fx_, other_fy_; // per wet node: every other force at the present state
     // Threads only for meshes large enough to repay the start of a parallel loop (several per step).
     bool parallel_ = false;
     Energies en_;
@@ -519,6 +567,47 @@ class Plate2D : public Structure {
         s[3] = c * n * (xx - yy) + (c * c - n * n) * xy;
     }
 
+    struct WetMotion {
+        double vx, vy; // the velocity of the half step
+        InterfaceSolution s;
+    };
+    // Wet node k's equation of motion along its normal n (unit, of the start of the step) with the
+    // impedance relation p_I = p_L − Z_L (u_I − u_L) − geometric, u_I = n · v, in closed form, then
+    // p_I ≥ p_floor. A free node: interface_node.hpp along n, and the other forces alone along the tangent.
+    // A node held in x and y: its velocity stays, p_I follows from it. A node free along one axis e only
+    // (a symmetry plane or the axis): with c = n · e and u_f the part of u_I from the held component,
+    //     m (v_e − v_e⁻) = h (F_e + A c p_I),   p_I = p_L − Z_L (c v_e + u_f − u_L) − geometric,
+    // so v_e = [m v_e⁻ + h (F_e + A c (p_L + Z_L (u_L − u_f) − geometric))] / (m + h A Z_L c²).
+    WetMotion solve_wet_node(size_t k, double nx, double ny, double A, double h,
+                             const FluidCharacteristic& f) const {
+        const int i = wet_[k];
+        const double m = mass_[i], Fx = other_fx_[k], Fy = other_fy_[k];
+        WetMotion r{vx_[i], vy_[i], {}};
+        if (cx_[i] && cy_[i]) {
+            r.s.p_I = f.p_L - f.Z_L * (nx * r.vx + ny * r.vy - f.u_L) - f.geometric;
+            if (r.s.p_I < f.p_floor) r.s.p_I = f.p_floor, r.s.cavitating = true;
+            return r;
+        }
+        if (cx_[i] || cy_[i]) {
+            const bool along_y = cx_[i];
+            const double c = along_y ? ny : nx, u_f = along_y ? nx * r.vx : ny * r.vy;
+            const double v0 = along_y ? r.vy : r.vx, F = along_y ? Fy : Fx;
+            double v = (m * v0 + h * (F + A * c * (f.p_L + f.Z_L * (f.u_L - u_f) - f.geometric))) /
+                       (m + h * A * f.Z_L * c * c);
+            r.s.p_I = f.p_L - f.Z_L * (c * v + u_f - f.u_L) - f.geometric;
+            if (r.s.p_I < f.p_floor) {
+                r.s.p_I = f.p_floor, r.s.cavitating = true;
+                v = v0 + h * (F + A * c * r.s.p_I) / m;
+            }
+            (along_y ? r.vy : r.vx) = v;
+            return r;
+        }
+        r.s = solve_interface_node(m, nx * r.vx + ny * r.vy, h, nx * Fx + ny * Fy, A, f);
+        r.vx += h * (Fx + A * r.s.p_I * nx) / m;
+        r.vy += h * (Fy + A * r.s.p_I * ny) / m;
+        return r;
+    }
+
     // Internal, hourglass and applied forces at the present configuration; accelerations; the external
     // force (loads and reactions) on every node for the work of the next step.
     void forces(double t) {
@@ -566,15 +655,23 @@ class Plate2D : public Structure {
             double fx = 0, fy = 0;
             for (int k = incidence_start_[i]; k < incidence_start_[i + 1]; ++k)
                 fx += efx_[incidence_[k]], fy += efy_[incidence_[k]];
+            // A wet node: the forces but the fluid's, for the next step's interface solve, and the fluid's
+            // load of the last step.
+            const int w = wet_index_.empty() ? -1 : wet_index_[i];
+            double lx = 0, ly = 0;
+            if (w >= 0) {
+                other_fx_[w] = fx + wx_[i], other_fy_[w] = fy + wy_[i];
+                lx = wet_fx_[w], ly = wet_fy_[w];
+            }
             // A constrained component has no acceleration: its reaction cancels the other forces.
             if (cx_[i])
-                ax_[i] = 0, wx_[i] = -fx;
+                ax_[i] = 0, wx_[i] = -(fx + lx);
             else
-                ax_[i] = (fx + wx_[i]) / mass_[i];
+                ax_[i] = (fx + wx_[i] + lx) / mass_[i];
             if (cy_[i])
-                ay_[i] = 0, wy_[i] = -fy;
+                ay_[i] = 0, wy_[i] = -(fy + ly);
             else
-                ay_[i] = (fy + wy_[i]) / mass_[i];
+                ay_[i] = (fy + wy_[i] + ly) / mass_[i];
         }
     }
 

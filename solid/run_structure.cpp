@@ -160,15 +160,19 @@ class StructureOutput {
     }
 };
 
-// The fluid, when a face is wet, through the coupling library.
-std::unique_ptr<coupling::StructureParticipant> connect(const RunPlan& p, const std::string& endpoint,
-                                                        const Structure& s, std::ostream& log) {
+// The fluid, when a face is wet, through the coupling library: the Hello carries every wet node with its
+// face (docs/protocol.md).
+std::unique_ptr<coupling::StructureParticipant> connect(const CaseFile& c, const RunPlan& p,
+                                                        const std::string& endpoint, const Structure& s,
+                                                        std::ostream& log) {
     const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms, stop_requested};
     auto link = std::make_unique<coupling::StructureParticipant>(o, "undex-solid", "0.1.0");
     coupling::Interface i;
+    i.dimension = s.dimension();
+    i.alpha = c.get().geometry() == config::AXISYMMETRIC_2D ? 1 : 0;
     for (const WetNode& n : s.wet_nodes()) {
         i.x.push_back(n.x), i.y.push_back(n.y), i.normal_x.push_back(n.normal_x);
-        i.normal_y.push_back(n.normal_y), i.area.push_back(n.area);
+        i.normal_y.push_back(n.normal_y), i.area.push_back(n.area), i.face.push_back(n.face);
     }
     link->initialize(i);
     log << "undex-solid: coupled to " << link->peer_solver() << " on " << endpoint << std::endl;
@@ -181,8 +185,10 @@ class StructureRun : public Run {
     StructureRun(const CaseFile& c, const RunPlan& p, StructureModel& m,
                  std::unique_ptr<coupling::StructureParticipant> link)
         : m_(m), s_(*m.structure), link_(std::move(link)), out_(p.directory, c.text(), s_, m.layers) {
-        for (const auto& g : c.get().structure().gauges())
-            out_.add_gauge(g.name(), g.x(), g.y());
+        // A 2D gauge's y is its depth from the front face, which lies at plate.y_front.
+        const auto& st = c.get().structure();
+        for (const auto& g : st.gauges())
+            out_.add_gauge(g.name(), g.x(), st.plate().y_front() + g.y());
         out_.record();
         out_.write_fields();
     }
@@ -281,7 +287,7 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
                "the structure is coupled to the case's fluid: run it with `undex run`, or give "
                "undex-solid --couple ENDPOINT with the fluid solver bound there");
     if (!model.wet && !couple.empty())
-        c.fail("structure.front", "--couple needs a front face wetted by a fluid (FLUID)");
+        c.fail("structure.front", "--couple needs a face wetted by a fluid (FLUID)");
 #ifdef _OPENMP
     if (model.threads > 0) omp_set_num_threads(model.threads);
     const int threads = omp_get_max_threads();
@@ -291,7 +297,7 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
     log << "undex-solid: " << c.path() << ": " << model.structure->description() << ", " << threads
         << " thread(s), time step " << format("%.4g", model.dt) << " s, end time " << p.end_time
         << " s, output " << p.directory << "/solid.h5" << std::endl;
-    auto link = model.wet ? connect(p, couple, *model.structure, log) : nullptr;
+    auto link = model.wet ? connect(c, p, couple, *model.structure, log) : nullptr;
     StructureRun r(c, p, model, std::move(link));
     return drive(r, p, "undex-solid", log);
 }

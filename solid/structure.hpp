@@ -15,9 +15,11 @@ namespace undex::solid {
 
 // A node of a face wetted by a fluid: its current position, the unit normal from the fluid into the
 // structure, its wetted area (per unit area in 1D, per unit depth in plane strain, per radian in
-// axisymmetry) and its velocity along the normal at the last half step.
+// axisymmetry), its velocity along the normal at the last half step, and the wet face it lies on (0, 1, ...:
+// the nodes of a face consecutive and in order along it, docs/protocol.md).
 struct WetNode {
     double x = 0, y = 0, normal_x = 0, normal_y = 0, area = 0, velocity = 0;
+    int face = 0;
 };
 
 // A named output array: values of every node or element (rows × columns), or of the mesh.
@@ -49,7 +51,7 @@ class Structure {
     // Largest stable step, without safety factor.
     virtual double stable_dt() const = 0;
 
-    // The nodes of every wet face (front first, then back), in a fixed order.
+    // The nodes of every wet face (front first, then back; each in order along it), in a fixed order.
     virtual std::vector<WetNode> wet_nodes() const = 0;
     // One central-difference step of dt. fluid[k] is the fluid's characteristic state at wet node k (empty
     // for a dry structure); the interface pressure and velocity of each wet node are returned (physics.md

@@ -70,14 +70,16 @@ const char* law_field(const cfg::SolidMaterial& m) {
                                      : "foam_1d";
 }
 
-void check_face(const CaseFile& cf, const cfg::SolidFace& f, const std::string& path) {
+// A face of a 1D column (FLUID on the front only: the fluid's x_max boundary is STRUCTURE) or of a 2D plate
+// (FLUID on the front, the back or both: the plate lies inside the fluid's domain).
+void check_face(const CaseFile& cf, const cfg::SolidFace& f, const std::string& path, bool two_d = false) {
     if (f.type() == cfg::SolidFace::TYPE_UNSET) cf.fail(path + ".type", "face type is not set");
     const bool front = path == "structure.front";
-    if (f.type() == cfg::SolidFace::FLUID && !front)
-        cf.fail(path + ".type", "only the front face can be wetted by the fluid (FLUID)");
+    if (f.type() == cfg::SolidFace::FLUID && !front && !two_d)
+        cf.fail(path + ".type", "only the front face of a 1D column can be wetted by the fluid (FLUID)");
     if (f.type() == cfg::SolidFace::FLUID && !has_fluid(cf))
         cf.fail(path + ".type", "a FLUID face needs a fluid in the case (regions, domain, boundaries)");
-    if (front && has_fluid(cf) && f.type() != cfg::SolidFace::FLUID)
+    if (front && !two_d && has_fluid(cf) && f.type() != cfg::SolidFace::FLUID)
         cf.fail(path + ".type", "with a fluid in the case the front face is the wet one: FLUID");
     if (f.type() == cfg::SolidFace::PRESSURE) {
         if (!f.has_pressure()) cf.fail(path, "a PRESSURE face needs a 'pressure' history");
@@ -114,11 +116,39 @@ double bytes_per_element(bool two_d) {
     return point + node + element + output;
 }
 
+// The wet faces of a 2D plate (front at y_front, back at y_front + thickness, x over the span) inside the
+// fluid's domain: x within [x_min, x_max] (a plate may span a channel from wall to wall), y strictly between
+// y_min and y_max (there must be fluid in front of a wet face).
+void check_wet_faces(const CaseFile& cf, bool front, bool back, double thickness) {
+    const auto& c = cf.get();
+    if (!(front || back) || !c.has_domain()) return; // a FLUID face without a fluid is refused elsewhere
+    const auto& d = c.domain();
+    const auto& pl = c.structure().plate();
+    const double tol = 1e-12 * std::max({std::abs(d.x_min()), std::abs(d.x_max()), d.x_max() - d.x_min()});
+    const std::string box = "the fluid's domain (x " + gfmt(d.x_min()) + " to " + gfmt(d.x_max()) + ", y " +
+                            gfmt(d.y_min()) + " to " + gfmt(d.y_max()) + " m)";
+    if (pl.x_min() < d.x_min() - tol)
+        cf.fail("structure.plate.x_min",
+                "the plate's wet face starts at x = " + gfmt(pl.x_min()) + " m, outside " + box);
+    if (pl.x_min() + pl.span() > d.x_max() + tol)
+        cf.fail("structure.plate.span",
+                "the plate's wet face ends at x = " + gfmt(pl.x_min() + pl.span()) + " m, outside " + box);
+    for (int side = 0; side < 2; ++side) {
+        if (!(side == 0 ? front : back)) continue;
+        const double y = pl.y_front() + (side == 0 ? 0.0 : thickness);
+        if (!(y > d.y_min() && y < d.y_max()))
+            cf.fail("structure.plate.y_front", std::string("the plate's wet ") +
+                                                   (side == 0 ? "front" : "back") +
+                                                   " face lies at y = " + gfmt(y) + " m, not inside " + box);
+    }
+}
+
 void check_edge(const CaseFile& cf, const cfg::SolidEdge& e, const std::string& path) {
     if (e.type() == cfg::SolidEdge::TYPE_UNSET) cf.fail(path + ".type", "edge type is not set");
 }
 
-// Face and edge conditions and loads of a 2D plate.
+// Face and edge conditions and loads of a 2D plate. A FLUID face is wet: its nodes in order of increasing
+// x, the front first (docs/protocol.md).
 void apply_plate_conditions(const cfg::Structure& st, const LayeredPlate& lp, Plate2D& plate) {
     for (int side = 0; side < 2; ++side) {
         const auto& f = side == 0 ? st.front() : st.back();
@@ -126,6 +156,12 @@ void apply_plate_conditions(const cfg::Structure& st, const LayeredPlate& lp, Pl
         if (f.type() == cfg::SolidFace::FIXED)
             for (int i = 0; i <= lp.nx; ++i)
                 plate.constrain(lp.node(i, j), true, true);
+        if (f.type() == cfg::SolidFace::FLUID) {
+            std::vector<int> nodes;
+            for (int i = 0; i <= lp.nx; ++i)
+                nodes.push_back(lp.node(i, j));
+            plate.add_wet_face(nodes, side == 0); // the plate lies above the front (+y), below the back
+        }
         if (f.type() == cfg::SolidFace::PRESSURE) {
             // Edges in their element's counter-clockwise order: left to right on the front, right to left on
             // the back.
@@ -153,10 +189,15 @@ RigidPlateModel make_rigid_plate(const CaseFile& cf) {
     undex::validate_plan(cf);
     const auto& st = c.structure();
     if (!st.has_rigid_plate()) cf.fail("structure.rigid_plate", "the structure is not a rigid plate");
-    if (c.geometry() != cfg::PLANAR_1D) cf.fail("geometry", "a rigid plate is a 1D structure: PLANAR_1D");
+    const bool two_d = c.geometry() == cfg::PLANAR_2D || c.geometry() == cfg::AXISYMMETRIC_2D;
+    if (c.geometry() != cfg::PLANAR_1D && !two_d)
+        cf.fail("geometry", "a rigid plate is PLANAR_1D, PLANAR_2D or AXISYMMETRIC_2D");
     if (st.materials_size()) cf.fail("structure.materials", "a rigid plate has no materials");
     if (st.layers_size()) cf.fail("structure.layers", "a rigid plate has no layers");
-    if (st.has_plate()) cf.fail("structure.plate", "a rigid plate has no 'plate' mesh");
+    if (!two_d && st.has_plate()) cf.fail("structure.plate", "a 1D rigid plate has no 'plate' mesh");
+    if (two_d && !st.has_plate())
+        cf.fail("structure.plate", "a 2D rigid plate needs 'plate' (x_min, span, element_size, y_front): the "
+                                   "nodes of its wet face");
     if (st.gauges_size())
         cf.fail("structure.gauges", "a rigid plate has no gauges (its history is solid.h5 /gauges/plate)");
     check_face(cf, st.front(), "structure.front");
@@ -165,7 +206,31 @@ RigidPlateModel make_rigid_plate(const CaseFile& cf) {
     if (st.back().type() != cfg::SolidFace::FREE)
         cf.fail("structure.back.type", "a rigid plate's back face is FREE (its back_pressure acts there)");
     const auto& r = st.rigid_plate(); // its numbers are within their ranges (validate_plan)
-    RigidPlateModel m{r.mass_per_area(), r.stiffness(), r.damping(), r.back_pressure(), 0};
+    RigidPlateModel m;
+    m.mass_per_area = r.mass_per_area(), m.stiffness = r.stiffness(), m.damping = r.damping();
+    m.back_pressure = r.back_pressure();
+    if (two_d) {
+        const auto& pl = st.plate();
+        const bool axi = c.geometry() == cfg::AXISYMMETRIC_2D;
+        if (pl.span() < pl.element_size() * (1 - 1e-12))
+            cf.fail("structure.plate.span", "the span (" + gfmt(pl.span()) +
+                                                " m) is shorter than one element (" +
+                                                gfmt(pl.element_size()) + " m)");
+        for (const auto* e : {&pl.left(), &pl.right()})
+            if (e->type() != cfg::SolidEdge::FREE)
+                cf.fail(std::string("structure.plate.") + (e == &pl.left() ? "left" : "right") + ".type",
+                        "a rigid plate moves as one body: its edges are FREE");
+        if (axi && !(pl.x_min() >= 0))
+            cf.fail("structure.plate.x_min", "an axisymmetric plate needs x_min = r >= 0");
+        const double nx = plate_columns(pl);
+        if (!(nx <= 1e6))
+            cf.fail("structure.plate.element_size", gfmt(nx) + " nodes; at most 1e6 in a rigid plate");
+        m.dimension = 2, m.alpha = axi ? 1 : 0, m.y_front = pl.y_front();
+        const int n = static_cast<int>(nx);
+        for (int i = 0; i <= n; ++i) // as the mesh of a plate (layered_plate)
+            m.x.push_back(i == n ? pl.x_min() + pl.span() : pl.x_min() + pl.span() * i / n);
+        check_wet_faces(cf, true, false, 0);
+    }
     // A spring–mass oscillator of period 2π sqrt(m/k) needs steps well below it; without a spring any step.
     m.dt = m.stiffness > 0 ? st.safety() * 0.1 * std::sqrt(m.mass_per_area / m.stiffness) : 1e300;
     if (st.has_dt()) m.dt = st.dt();
@@ -250,11 +315,15 @@ std::vector<Layer1D> make_layers(const CaseFile& cf,
 }
 
 // Faces, kinematics, safety factor, end time, output directory, hourglass factor, threads.
-void check_conditions(const CaseFile& cf) {
+void check_conditions(const CaseFile& cf, bool two_d) {
     const auto& c = cf.get();
     const auto& st = c.structure();
-    check_face(cf, st.front(), "structure.front");
-    check_face(cf, st.back(), "structure.back");
+    check_face(cf, st.front(), "structure.front", two_d);
+    check_face(cf, st.back(), "structure.back", two_d);
+    if (two_d && has_fluid(cf) && st.front().type() != cfg::SolidFace::FLUID &&
+        st.back().type() != cfg::SolidFace::FLUID)
+        cf.fail("structure.front.type", "with a fluid in the case the plate is coupled to it: its front, its "
+                                        "back or both faces are FLUID");
     bool known = false;
     for (const auto& k : kinematics_names())
         known |= st.kinematics() == k.first;
@@ -276,6 +345,12 @@ void check_plate(const CaseFile& cf, bool axi) {
     if (axi && pl.x_min() == 0 && pl.left().type() != cfg::SolidEdge::SYMMETRY)
         cf.fail("structure.plate.left.type",
                 "an axisymmetric plate from r = 0 needs SYMMETRY (the axis) there");
+    const auto& st = cf.get().structure();
+    double total = 0;
+    for (const auto& L : st.layers())
+        total += L.thickness();
+    check_wet_faces(cf, st.front().type() == cfg::SolidFace::FLUID, st.back().type() == cfg::SolidFace::FLUID,
+                    total);
 }
 
 // Gauges: unique names, inside the structure.
@@ -315,7 +390,7 @@ std::unique_ptr<Plate2D> make_plate(const CaseFile& cf, const std::vector<Layer1
     }
     const auto& pl = st.plate();
     const int nx = static_cast<int>(plate_columns(pl)); // bounded by make_structure's size check
-    const LayeredPlate layout = layered_plate(pl.x_min(), pl.span(), nx, thickness, rows);
+    const LayeredPlate layout = layered_plate(pl.x_min(), pl.span(), nx, thickness, rows, pl.y_front());
     auto plate = std::make_unique<Plate2D>(layout.mesh, per_layer, axi ? Plane::Axisymmetric : Plane::Strain,
                                            st.hourglass());
     apply_plate_conditions(st, layout, *plate);
@@ -361,7 +436,7 @@ StructureModel make_structure(const CaseFile& cf, Build build) {
         cf.fail("structure.kinematics", "kinematics applies to 1D columns only; 2D plates are "
                                         "plane strain (PLANAR_2D) or axisymmetric (AXISYMMETRIC_2D)");
     const auto layers = make_layers(cf, make_laws(cf), two_d);
-    check_conditions(cf);
+    check_conditions(cf, two_d);
     if (two_d) check_plate(cf, axi);
     check_gauges(cf, two_d);
 
@@ -379,9 +454,6 @@ StructureModel make_structure(const CaseFile& cf, Build build) {
         cf.fail(size_field,
                 gfmt(model.elements) + " elements; at most " + gfmt(max_elements) + " in a structure");
     undex::check_memory(cf, size_field, "structure elements", model.elements, bytes_per_element(two_d));
-    if (two_d && st.front().type() == cfg::SolidFace::FLUID)
-        cf.fail("structure.front.type", "coupling a 2D plate to a fluid is not available yet; 1D columns "
-                                        "(PLANAR_1D) couple");
     if (build == Build::IfSmall && model.elements * bytes_per_element(two_d) > check_build_bytes)
         return model; // checked but for the forced time step against the stable one: at run time
     if (two_d)

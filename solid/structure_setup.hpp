@@ -22,10 +22,16 @@ struct StructureModel {
     bool wet = false;                     // a face is coupled to a fluid
 };
 
-// A rigid plate per unit area (undex-rigid): m du/dt = p_I − back_pressure − k u − c du/dt.
+// A rigid plate per unit area (undex-rigid): m du/dt = p_I − back_pressure − k u − c du/dt. In 1D one wet
+// node of area 1; in 2D the nodes of its front face (x along the span, y = y_front, normal +y), the whole
+// face moving as one body.
 struct RigidPlateModel {
     double mass_per_area = 0, stiffness = 0, damping = 0, back_pressure = 0;
-    double dt = 0; // the step it offers
+    double dt = 0;         // the step it offers
+    int dimension = 1;     // 1 or 2
+    int alpha = 0;         // 0 planar (per unit depth in 2D), 1 axisymmetric (x = r, per radian)
+    std::vector<double> x; // 2D: the front face's nodes, increasing
+    double y_front = 0;    // 2D: the front face's y in the fluid's frame
 };
 RigidPlateModel make_rigid_plate(const CaseFile& c);
 

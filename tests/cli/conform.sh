@@ -23,6 +23,19 @@ expect_fail() { # name, pattern, command...
 expect_ok undex-solid "$BIN/undex-solid" "$CASES/sandwich_shock_1d.case" --set "output.directory=$TMP/solid"
 expect_ok undex-rigid "$BIN/undex-rigid" "$CASES/taylor_plate_1d.case" --set "output.directory=$TMP/rigid"
 expect_ok rigid_plate.py /usr/bin/python3 "$TESTS/coupling/rigid_plate.py" --mass 100 --proto-dir "$PYDIR"
+# 2D (tests/cases): a plane-strain plate wet on both faces, clamped; the same plate axisymmetric from the axis,
+# wet in front only, its rim free; a rigid axisymmetric plate of five nodes.
+expect_ok "undex-solid 2D" "$BIN/undex-solid" "$TESTS/cases/plate_2d.case" --set "output.directory=$TMP/solid2d"
+expect_ok "undex-solid 2D axisymmetric" "$BIN/undex-solid" "$TESTS/cases/plate_2d.case" \
+    --set "output.directory=$TMP/solid2da" --set geometry=AXISYMMETRIC_2D --set structure.plate.left.type=SYMMETRY \
+    --set structure.plate.right.type=FREE --set structure.back.type=FREE
+expect_ok "undex-rigid 2D" "$BIN/undex-rigid" "$TESTS/cases/rigid_plate_2d.case" --set "output.directory=$TMP/rigid2d"
+expect_fail "a 2D solver whose areas are not its face's" \
+    "FAIL: Hello: faces.*node 0 of face 0: area 0.1, normal (0, 1), but its face's segments give 0.05, (0, 1)" \
+    /usr/bin/python3 "$TESTS/coupling/bad_peer.py" --mode wrong-area-2d --proto-dir "$PYDIR"
+expect_fail "a 2D solver whose steps do not start where the last ended" \
+    "FAIL: Offers: each step starts where.*step 2, node 0: offered at (0, 0.002) but the Answer of step 1 ended at (0, 0)" \
+    /usr/bin/python3 "$TESTS/coupling/bad_peer.py" --mode jumps-2d --proto-dir "$PYDIR"
 expect_fail "a solver that ignores the interface condition and the sign" \
     "FAIL: Answers: .*step 1, node 0: p_I = 100000 Pa but p_L − Z_L (u_I − u_L) = 115000 Pa" \
     /usr/bin/python3 "$TESTS/coupling/bad_peer.py" --mode wrong-physics --proto-dir "$PYDIR"

@@ -13,6 +13,10 @@ As the structure it connects and speaks the protocol correctly up to step --at (
     heartbeats     sends only Heartbeats, every 0.1 s
     long-error     sends an Error of 1 MB that is not UTF-8
     tiny-dt        (structure only) offers dt = 5e-324
+    wrong-area-2d  (structure only) a 2D Hello of three nodes on a flat face whose end nodes claim the area
+                   of an inner one (0.1 m instead of 0.05 m per unit depth)
+    jumps-2d       (structure only) a correct 2D Hello and answers, but each Offer starts 1 mm away from
+                   where the last Answer ended
 As the fluid it binds, answers the Hello, and grants steps with a resting fluid state up to --at, then
 misbehaves the same way (garbage, a Welcome where a Grant is due, version 99, silence, heartbeats, a long
 Error) or grants with p_floor = inf (pfloor-inf), p_floor = NaN (pfloor-nan) or time = NaN (time-nan);
@@ -27,7 +31,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--role", choices=["structure", "fluid"], default="structure")
     ap.add_argument("--mode", choices=["garbage", "wrong-type", "wrong-version", "silent", "wrong-physics", "heartbeats", "long-error",
-                                     "tiny-dt", "pfloor-inf", "pfloor-nan", "time-nan", "end-negative"], required=True)
+                                     "tiny-dt", "wrong-area-2d", "jumps-2d", "pfloor-inf", "pfloor-nan", "time-nan", "end-negative"], required=True)
     ap.add_argument("--at", type=int, default=3)
     ap.add_argument("--proto-dir")
     ap.add_argument("--couple", required=True)
@@ -94,6 +98,22 @@ def main():
             send(step, **{k: spoilt[a.mode](v) for k, v in proper.items()})
         time.sleep(2)  # let the frame leave before the socket closes
 
+    if a.role == "structure" and a.mode in ("wrong-area-2d", "jumps-2d"):
+        s.connect(a.couple)
+        x = [0.0, 0.1, 0.2]
+        area = [0.1, 0.1, 0.1] if a.mode == "wrong-area-2d" else [0.05, 0.1, 0.05]
+        send(0, hello=pb.Hello(solver="bad_peer.py", version="1", dimension=2, alpha=0, x=x, y=[0.0] * 3,
+                               normal_x=[0.0] * 3, normal_y=[1.0] * 3, area=area, face=[0] * 3))
+        if recv().WhichOneof("body") != "welcome":
+            return 0
+        for step in range(1, 1000000):
+            send(step, offer=pb.Offer(dt=1.0, x=x, y=[1e-3 * step] * 3, velocity=[0.0] * 3))
+            g = recv()
+            if g.WhichOneof("body") != "grant":
+                return 0
+            p = [pl + z * ul - ge for pl, z, ul, ge in zip(g.grant.p_L, g.grant.Z_L, g.grant.u_L, g.grant.geometric)]
+            send(step, answer=pb.Answer(p_I=p, u_I=[0.0] * 3, x=x, y=[0.0] * 3))
+        return 0
     if a.role == "structure":
         s.connect(a.couple)
         send(0, hello=pb.Hello(solver="bad_peer.py", version="1", dimension=1, alpha=0, x=[0.0], y=[0.0],

@@ -475,14 +475,12 @@ TEST(Plate2D, WetNodesOfAFaceCoverItWithInwardNormals) {
     for (const Plane plane : {Plane::Strain, Plane::Axisymmetric}) {
         const LayeredPlate lp = layered_plate(x0, L, nx, {h}, {2});
         Plate2D plate(lp.mesh, {steel()}, plane);
-        // Edges counter-clockwise: left to right in front, right to left at the back.
-        std::vector<std::array<int, 2>> front, back;
-        for (int i = 0; i < nx; ++i) {
-            front.push_back({lp.node(i, 0), lp.node(i + 1, 0)});
-            back.push_back({lp.node(i + 1, lp.ny), lp.node(i, lp.ny)});
-        }
-        plate.add_wet_face(front);
-        plate.add_wet_face(back);
+        // Both faces left to right: the plate lies left of the front (+y), right of the back.
+        std::vector<int> front, back;
+        for (int i = 0; i <= nx; ++i)
+            front.push_back(lp.node(i, 0)), back.push_back(lp.node(i, lp.ny));
+        plate.add_wet_face(front, true);
+        plate.add_wet_face(back, false);
         const Structure& s = plate;
         const auto w = s.wet_nodes();
         ASSERT_EQ(w.size(), 2u * (nx + 1));
@@ -492,6 +490,8 @@ TEST(Plate2D, WetNodesOfAFaceCoverItWithInwardNormals) {
             EXPECT_DOUBLE_EQ(w[k].normal_x, 0.0);
             EXPECT_DOUBLE_EQ(w[k].normal_y, is_front ? 1.0 : -1.0);
             EXPECT_DOUBLE_EQ(w[k].y, is_front ? 0.0 : h);
+            EXPECT_EQ(w[k].face, is_front ? 0 : 1);
+            EXPECT_DOUBLE_EQ(w[k].x, plate.node_x(is_front ? lp.node(k, 0) : lp.node(k - nx - 1, lp.ny)));
             (is_front ? front_area : back_area) += w[k].area;
         }
         const double expected = plane == Plane::Strain ? L : 0.5 * ((x0 + L) * (x0 + L) - x0 * x0);
