@@ -110,8 +110,11 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
                 fail(s.str());
             }
             // The trace along the normal of the real cell(s) at the probe point: from the cell's centre along
-            // n to the node's level. A probe point on a cell edge takes the mean of the real cells on both
-            // sides, so that mirror-image nodes see mirror-image cells.
+            // n to the node's level, averaged along the face's direction across the cell (chord_mean: for a
+            // face along the mesh, the mean over the cell's face, the 1D trace of a plane wave; the
+            // polynomial's variation along the face would feed back through p_I into the ghost band and
+            // grow). A probe point on a cell edge takes the mean of the real cells on both sides, so that
+            // mirror-image nodes see mirror-image cells.
             const S& sc = *sides_[f]->scheme;
             double acc[5] = {};
             int used = 0;
@@ -120,7 +123,7 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
                 const int ci = static_cast<int>(c % mesh_.nx), cj = static_cast<int>(c / mesh_.nx);
                 const double xc = mesh_.xc(ci), yc = mesh_.yc(cj);
                 const double d = (w.x(k) - xc) * n[0] + (w.y(k) - yc) * n[1];
-                const Primitive p = sc.evaluate_in(ci, cj, xc + d * n[0], yc + d * n[1]);
+                const Primitive p = chord_mean(sc, ci, cj, xc + d * n[0], yc + d * n[1], -n[1], n[0]);
                 const double v[5] = {p.p, p.u * n[0] + p.v * n[1], p.rho, sc.eos().sound_speed(p.rho, p.p),
                                      p.u};
                 for (int q = 0; q < 5; ++q)
@@ -306,6 +309,37 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         std::ostringstream s;
         s << what << " (t = " << time() << " s, step " << steps() << ")";
         throw SolverFailure(s.str());
+    }
+
+    // The mean of cell (i, j)'s polynomial along the chord through (x, y) (clamped into the cell) in the
+    // direction (tx, ty), over the part of the chord inside the cell: three Gauss points, exact for the
+    // degrees used.
+    static Primitive chord_mean_of(const S& sc, const Mesh& m, int i, int j, double x, double y, double tx,
+                                   double ty) {
+        const double x0 = m.xc(i) - 0.5 * m.dx, x1 = m.xc(i) + 0.5 * m.dx;
+        const double y0 = m.yc(j) - 0.5 * m.dy, y1 = m.yc(j) + 0.5 * m.dy;
+        x = std::clamp(x, x0, x1), y = std::clamp(y, y0, y1);
+        double s0 = -1e300, s1 = 1e300;
+        auto clip = [&](double p, double d, double lo, double hi) {
+            if (std::abs(d) < 1e-14) return;
+            const double a = (lo - p) / d, b = (hi - p) / d;
+            s0 = std::max(s0, std::min(a, b)), s1 = std::min(s1, std::max(a, b));
+        };
+        clip(x, tx, x0, x1);
+        clip(y, ty, y0, y1);
+        if (!(s1 > s0)) return sc.evaluate_in(i, j, x, y);
+        const double mid = 0.5 * (s0 + s1), half = 0.5 * (s1 - s0), g = std::sqrt(0.6);
+        const double w[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18}, q[3] = {-g, 0.0, g};
+        Primitive out{};
+        for (int k = 0; k < 3; ++k) {
+            const double sk = mid + q[k] * half;
+            const Primitive v = sc.evaluate_in(i, j, x + sk * tx, y + sk * ty);
+            out.rho += w[k] * v.rho, out.u += w[k] * v.u, out.v += w[k] * v.v, out.p += w[k] * v.p;
+        }
+        return out;
+    }
+    Primitive chord_mean(const S& sc, int i, int j, double x, double y, double tx, double ty) const {
+        return chord_mean_of(sc, mesh_, i, j, x, y, tx, ty);
     }
 
     // The first point along −n from (x, y), in quarter cells up to the band's width, whose cell is real for
