@@ -86,14 +86,16 @@ inline void incident_ghost(const double* in, double* out, int side, double p_inc
     const double a_amb = eos.sound_speed(rho_amb, p_amb);
     const double X_amb = rho_amb * a_amb * a_amb / gamma; // p_amb + Π
     const double k = gm1 / (2.0 * gamma);
+    // a(p) on the isentrope, and its inverse p(a).
     const auto speed = [&](double pr) { return a_amb * std::pow((X_amb + (pr - p_amb)) / X_amb, k); };
+    const auto pressure = [&](double a) { return p_amb + (X_amb * std::pow(a / a_amb, 1.0 / k) - X_amb); };
     const double J_out = n * vel[dir] - 2.0 * speed(p) / gm1;
     const double a_inc = speed(p_inc);
     const double J_in = (4.0 * a_inc - 2.0 * a_amb) / gm1;
-    // A rarefaction leaving faster than the escape speed 2a/(γ−1) (thousands of m/s in water) would need
-    // a_g ≤ 0: the ghost becomes a vacuum (ρ = 0) and the step fails naming the cell.
+    // a_g ≤ 0 (an inflow faster than 2(a + a_amb)/(γ−1), about 1000 m/s in water, with no incident wave):
+    // the ghost is then a vacuum (ρ = 0) and the step fails naming the cell.
     const double a_g = std::max(0.25 * gm1 * (J_in - J_out), 0.0);
-    const double p_g = p_amb + (X_amb * std::pow(a_g / a_amb, 1.0 / k) - X_amb);
+    const double p_g = pressure(a_g);
     vel[dir] = n * (0.5 * (J_in + J_out));
     constant_state<D, K>(out, eos.isentrope_density(rho, p, p_g), vel, p_g, eos);
 }
