@@ -45,7 +45,7 @@ int options() {
     list("interface.riemann", undex::fluid::interface_riemann_names());
     std::cout << "geometry: PLANAR_1D CYLINDRICAL_1D SPHERICAL_1D PLANAR_2D AXISYMMETRIC_2D\n"
               << "boundary type: TRANSMISSIVE WALL SYMMETRY PRESSURE PERIODIC STRUCTURE (x_max: the "
-                 "structure's wet face)\n"
+                 "structure's wet face) INCIDENT (an incident wave p(t), non-reflecting)\n"
               << "material models: stiffened_gas { gamma p_inf }, tait { gamma B A rho0 as_stiffened_gas }\n";
     return 0;
 }

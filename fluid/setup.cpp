@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <sstream>
 #include <unistd.h>
 #include <variant>
 
@@ -182,11 +183,36 @@ bool inside(const cfg::Region& r, double x, double y) {
 
 void validate_boundary(const CaseFile& cf, const cfg::Boundary& b, const std::string& path) {
     if (b.type() == cfg::Boundary::TYPE_UNSET) cf.fail(path + ".type", "boundary type is not set");
-    if (b.type() == cfg::Boundary::PRESSURE) {
-        if (!b.has_pressure()) cf.fail(path, "a PRESSURE boundary needs a 'pressure' history");
+    if (b.type() == cfg::Boundary::PRESSURE || b.type() == cfg::Boundary::INCIDENT) {
+        const char* name = b.type() == cfg::Boundary::PRESSURE ? "a PRESSURE" : "an INCIDENT";
+        if (!b.has_pressure()) cf.fail(path, std::string(name) + " boundary needs a 'pressure' history");
         validate_pressure_history(cf, b.pressure(), path + ".pressure");
     } else if (b.has_pressure()) {
-        cf.fail(path + ".pressure", "a pressure history is only used by PRESSURE boundaries");
+        cf.fail(path + ".pressure", "a pressure history is only used by PRESSURE and INCIDENT boundaries");
+    }
+    if (b.type() == cfg::Boundary::INCIDENT) {
+        // The incident wave's sound speeds are read on the isentrope of the water it enters (regions[0]'s
+        // material): every pressure of the history must be one that material can hold.
+        const cfg::Case& c = cf.get();
+        const auto& h = b.pressure();
+        const std::string& water = c.regions(0).material();
+        const double floor = std::visit([](const auto& e) { return e.pressure_floor(); },
+                                        eos_of(c.materials(material_index(c, water))));
+        const auto refuse_below = [&](double p, const std::string& field, const std::string& what) {
+            std::ostringstream m;
+            m << what << " = " << p << " Pa must exceed " << floor + 0.0 << " Pa, the lowest pressure of '"
+              << water << "' (regions[0])";
+            if (!(p > floor)) cf.fail(path + ".pressure." + field, m.str());
+        };
+        if (h.table_t_size() > 0) {
+            for (int k = 0; k < h.table_p_size(); ++k) {
+                const std::string field = "table_p[" + std::to_string(k) + "]";
+                refuse_below(h.table_p(k), field, field);
+            }
+        } else {
+            refuse_below(h.p_ambient(), "p_ambient", "p_ambient");
+            refuse_below(h.p_ambient() + h.p_peak(), "p_peak", "p_ambient + p_peak");
+        }
     }
 }
 
@@ -472,6 +498,12 @@ Boundary boundary(const cfg::Boundary& b) {
         break;
     case cfg::Boundary::STRUCTURE:
         out.type = BoundaryType::Structure;
+        break;
+    case cfg::Boundary::INCIDENT:
+        // The still water outside: the history's pressure before the wave arrives.
+        out.type = BoundaryType::Incident;
+        out.pressure = pressure_history(b.pressure());
+        out.p_ambient = b.pressure().table_p_size() > 0 ? b.pressure().table_p(0) : b.pressure().p_ambient();
         break;
     default:
         out.type = BoundaryType::Transmissive;

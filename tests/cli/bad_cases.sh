@@ -157,6 +157,16 @@ bad_case cfl-zero 's/cfl: 0.2/cfl: 0/' 12 numerics.cfl
 bad_case unknown-material 's/material: "air" box/material: "steam" box/' 7 'regions[1].material' run
 # A missing required field inside a message: regions[1].p (the line of regions[1], 7).
 bad_case missing-region-p 's/ rho: 0.125 p: 0.1 }/ rho: 0.125 }/' 7 'regions[1].p' run
+# An INCIDENT side needs its incident history (line 9), and every pressure of it must be one the water of
+# regions[0] can hold (the air's lowest is 0: p_ambient + p_peak = −1 is refused, naming p_peak).
+INCIDENT='s/x_min { type: TRANSMISSIVE }/x_min { type: INCIDENT pressure { p_ambient: 1 p_peak: 0.5 theta: 0.01 } }/'
+make_case incident "$INCIDENT"
+expect_ok "check valid INCIDENT side" "$UNDEX" check "$TMP/incident.case"
+bad_case incident-without-history 's/x_min { type: TRANSMISSIVE }/x_min { type: INCIDENT }/' 9 \
+    "boundaries.x_min: an INCIDENT boundary needs a 'pressure' history" run
+bad_case incident-below-floor "$INCIDENT; s/p_peak: 0.5/p_peak: -2/" 9 'boundaries.x_min.pressure.p_peak' run
+bad_case history-on-a-wall 's/x_min { type: TRANSMISSIVE }/x_min { type: WALL pressure { p_ambient: 1 } }/' 9 \
+    'boundaries.x_min.pressure: a pressure history is only used by PRESSURE and INCIDENT boundaries'
 
 # Two materials (gas in the box): the interface fields are checked (line 12 holds numerics and interface).
 TWO='s/stiffened_gas { gamma: 1.4 } }/stiffened_gas { gamma: 1.4 } } materials { name: "gas" stiffened_gas { gamma: 1.4 } }/; s/material: "air" box/material: "gas" box/'
