@@ -24,6 +24,7 @@ OutputClock::OutputClock(const RunPlan& plan, double start_time)
 
 Step OutputClock::clip(double t, double dt) const {
     if (!(dt > 0) || !std::isfinite(dt)) return {dt, false}; // refused by the driver, naming it
+    if (next_ >= times_.size()) return {dt, false}; // past the last output (the driver stops at done())
     const double target = times_[next_];
     if (t + dt >= target * (1 - 1e-12)) return {target - t, true};
     return {dt, false};

@@ -108,14 +108,13 @@ class FluidRun : public Run {
     long steps() const override { return solver_->steps(); }
 
     std::optional<Step> next_step(const OutputClock& clock) override {
-        const auto wait_start = std::chrono::steady_clock::now();
-        if (link_ && !(*link_)->receive_offer(offer_))
+        if (link_ && !timed(coupling_wall_, [&] { return (*link_)->receive_offer(offer_); }))
             throw RunFailure(exit_coupling_failed, "the structure solver stopped the run at step " +
                                                        std::to_string((*link_)->step()) + ": " +
                                                        (*link_)->stop_reason());
         if (link_ && link_->wet()) {
             try {
-                link_->wet()->move(offer_.x, offer_.y);
+                timed(faces_wall_, [&] { return link_->wet()->move(offer_.x, offer_.y), true; });
             } catch (const SolverFailure& f) {
                 throw RunFailure(exit_method_failed, f.what());
             }
@@ -125,8 +124,6 @@ class FluidRun : public Run {
         const Step s = clock.clip(time(), dt);
         if (!link_ || !clock.admissible(s)) return s; // the driver refuses a step that collapsed
         exchange(s);
-        coupling_wall_ +=
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - wait_start).count();
         return Step{dt_, s.output};
     }
 
@@ -176,7 +173,9 @@ class FluidRun : public Run {
     std::string output_path() const override { return out_.path(); }
     std::string summary(double wall) const override {
         if (!link_) return "";
-        return format(" (coupling %.3f s, %.1f %%)", coupling_wall_, 100 * coupling_wall_ / wall);
+        std::string out = format(" (coupling %.3f s, %.1f %%", coupling_wall_, 100 * coupling_wall_ / wall);
+        if (link_->wet()) out += format("; wet faces %.3f s, %.1f %%", faces_wall_, 100 * faces_wall_ / wall);
+        return out + ")";
     }
     bool coupling_error(const std::exception& e) const override {
         return dynamic_cast<const coupling::CouplingError*>(&e) != nullptr;
@@ -190,6 +189,14 @@ class FluidRun : public Run {
     double dt_ = 0;            // the step agreed with the structure
     double dt_f_ = 0;          // the fluid's own stable step Δt_f of the step being agreed
     double coupling_wall_ = 0; // inside the coupling library: waiting for and exchanging with the structure
+    double faces_wall_ = 0;    // 2D: rebuilding the structure level set and the ghost bands (WetSolver::move)
+    // Runs f, adding its wall time to `into`; returns what f returns.
+    template <class F> static bool timed(double& into, F&& f) {
+        const auto start = std::chrono::steady_clock::now();
+        const bool r = f();
+        into += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return r;
+    }
     // t, dt, p_L, u_L, Z_L, p_I, u_I, displacement, dt_f, dt_s per step (dt_f the fluid's own stable step,
     // dt_s the structure's offer: the tests check dt = min(dt_f, dt_s) unless the step ends on an output
     // time).
@@ -217,7 +224,8 @@ class FluidRun : public Run {
         g.u_L = {w.u};
         g.Z_L = {w.rho * a};
         g.geometric = {geometric_term(m.alpha, s.dt, w.rho, a, w.u, x_I)};
-        const coupling::Answer ans = (*link_)->exchange(s.dt, g);
+        coupling::Answer ans;
+        timed(coupling_wall_, [&] { return ans = (*link_)->exchange(s.dt, g), true; });
         dt_ = g.dt;
         solver_->set_structure_state(ans.p_I[0], ans.u_I[0]);
         history_.insert(history_.end(), {solver_->time(), dt_, w.p, w.u, g.Z_L[0], ans.p_I[0], ans.u_I[0],
@@ -249,7 +257,8 @@ class FluidRun : public Run {
             g.geometric[k] =
                 geometric_term(m.alpha, s.dt, w[k].rho, w[k].a, w[k].u_x, faces.x(k), std::max(m.dx, m.dy));
         }
-        const coupling::Answer ans = (*link_)->exchange(s.dt, g);
+        coupling::Answer ans;
+        timed(coupling_wall_, [&] { return ans = (*link_)->exchange(s.dt, g), true; });
         dt_ = g.dt;
         wet.set_interface(ans.p_I, ans.u_I);
         double work = 0;

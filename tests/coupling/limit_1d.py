@@ -57,7 +57,7 @@ def case(kind, m, dim, end, out):
     text = text.replace("output { interval: 1e-4 progress_seconds: 2 }",
                         f'output {{ interval: 1e-4 progress_seconds: 30 directory: "{out}" }}')
     text = text.replace("numerics { degree: 2 cfl: 0.2 limiter: \"minmod\" }",
-                        'numerics { degree: 2 cfl: 0.2 limiter: "minmod" threads: 1 }')
+                        'numerics { degree: 2 cfl: 0.15 limiter: "minmod" threads: 1 }')
     if dim == 2:
         text = text.replace("geometry: PLANAR_1D", "geometry: PLANAR_2D")
         text = text.replace("domain { x_min: 0 x_max: 0.5 cells_x: 500 }",
