@@ -71,9 +71,9 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
                           << ") at x = " << mesh_.xc(c % mesh_.nx)
                           << ", y = " << mesh_.yc(static_cast<int>(c / mesh_.nx))
                           << " lies on the fluid side of wet faces " << f << " and " << g
-                          << ": the water of two faces would meet around the structure's end; a structure "
-                             "wet on "
-                             "two faces must span the fluid domain from boundary to boundary";
+                          << ": the faces cross, or their water would meet around the structure's end (a "
+                             "structure wet on two faces must span the fluid domain from boundary to "
+                             "boundary)";
                         throw std::invalid_argument(s.str());
                     }
         for (int f = 0; f < faces_->faces(); ++f) {

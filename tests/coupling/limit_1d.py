@@ -36,7 +36,7 @@ FRONT = 0.02
 def structure(kind, m, dim):
     h = m / 7850
     if kind == "undex-rigid":
-        plate = ' plate { span: 0.02 element_size: 0.005 y_front: 0.5 left { type: FREE } right { type: FREE } }' \
+        plate = ' plate { span: 0.004 element_size: 0.001 y_front: 0.5 left { type: FREE } right { type: FREE } }' \
             if dim == 2 else ""
         return f"rigid_plate {{ mass_per_area: {m!r} back_pressure: 1e5 }}{plate} front {{ type: FLUID }} back {{ type: FREE }}"
     lay = (f'materials {{ name: "stiff" elastic {{ rho: 7850 E: 2.1e13 nu: 0 }} }} '
@@ -44,7 +44,7 @@ def structure(kind, m, dim):
     back = "front { type: FLUID } back { type: PRESSURE pressure { p_ambient: 1e5 } }"
     if dim == 1:
         return lay + 'kinematics: "uniaxial_strain" ' + back
-    return lay + ('plate { span: 0.02 element_size: 0.02 y_front: 0.5 left { type: SYMMETRY } '
+    return lay + ('plate { span: 0.004 element_size: 0.004 y_front: 0.5 left { type: SYMMETRY } '
                   'right { type: SYMMETRY } } ') + back
 
 
@@ -61,7 +61,7 @@ def case(kind, m, dim, end, out):
     if dim == 2:
         text = text.replace("geometry: PLANAR_1D", "geometry: PLANAR_2D")
         text = text.replace("domain { x_min: 0 x_max: 0.5 cells_x: 500 }",
-                            "domain { x_min: 0 x_max: 0.02 cells_x: 20 y_min: 0 y_max: 0.504 cells_y: 504 }")
+                            "domain { x_min: 0 x_max: 0.004 cells_x: 4 y_min: 0 y_max: 0.504 cells_y: 504 }")
         b0 = text.index("boundaries {")
         b1 = text.index("\n}\n", b0) + 3
         text = text[:b0] + ("boundaries {\n  x_min { type: SYMMETRY }\n  x_max { type: SYMMETRY }\n"

@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# The fluid's side of bad 2D wet faces (issue 15, item 8), against prescribed-motion plates that send them
+# (tests/coupling/moving_plate.py): a wet node outside the fluid's domain (refused at the handshake: a
+# coupling failure, exit 3) and a wet face with no water next to it (the fluid's sample fails: exit 2). Each: both
+# processes stop, the message names what and where, and fluid.h5 stays readable with its status.
+#   usage: bad_wet_faces.sh BIN_DIR PYTHON_DIR SOURCE_DIR
+set -u
+BIN=$1 PY=$2 SRC=$3
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+passed=0
+failed=0
+
+# run NAME PLATE_ARGS EXIT MESSAGE
+run() {
+    local name=$1 args=$2 want=$3 message=$4 out="$TMP/$1"
+    mkdir -p "$out"
+    cat > "$out/case.case" <<CASE
+name: "$name"
+geometry: PLANAR_2D
+domain { x_min: -0.5 x_max: 0.5 cells_x: 20 y_min: 0 y_max: 1 cells_y: 20 }
+materials { name: "water" tait { } }
+regions { material: "water" rho: 1000 p: 1e5 }
+boundaries { x_min { type: WALL } x_max { type: WALL } y_min { type: WALL } y_max { type: WALL } }
+numerics { degree: 1 threads: 1 }
+structure { command: "/usr/bin/python3 $SRC/tests/coupling/moving_plate.py $args --speed 0 --proto-dir $PY" front { type: FLUID } back { type: FLUID } }
+end_time: 1e-4
+output { directory: "$out" }
+CASE
+    "$BIN/undex" run "$out/case.case" > "$out/log" 2>&1
+    local rc=$? problems=""
+    [ $rc -ne 0 ] || problems+=" the run succeeded;"
+    grep -q "fluid ended with exit code $want" "$out/log" || problems+=" no 'fluid ended with exit code $want';"
+    grep -qF "$message" "$out/fluid.log" || problems+=" fluid.log lacks '$message';"
+    # A refusal at the handshake comes before the first output: then no fluid.h5 at all; after it, fluid.h5
+    # is readable and says why it failed.
+    if [ -e "$out/fluid.h5" ]; then
+        /usr/bin/python3 -c "
+import h5py, sys
+with h5py.File('$out/fluid.h5') as f:
+    s = f['status'][()].decode()
+    sys.exit(0 if s.startswith('failed') else 1)" 2> /dev/null || problems+=" fluid.h5 not readable with a failed status;"
+    elif [ "$want" -ne 3 ]; then problems+=" no fluid.h5;"; fi
+    if [ -z "$problems" ]; then echo "ok: $name: $(grep -m1 'error' "$out/fluid.log")"; passed=$((passed + 1));
+    else echo "FAIL: $name:$problems"; cat "$out/log"; failed=$((failed + 1)); fi
+}
+
+run outside "--faces 1 --nodes 11 --xc 0 --yc 1.2 --length 0.5" 3 "lies outside the fluid domain"
+# Face 0 on the domain's lower edge with the structure above it: no water below it in the domain.
+run no-water "--faces 1 --nodes 21 --xc 0 --yc 0 --length 1.0" 2 "has no fluid within 3 cells along its normal"
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
