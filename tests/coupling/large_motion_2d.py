@@ -15,7 +15,7 @@ within Tait water's p > A − B = −331 MPa; T = 31 ms). Degree 1, CFL 0.4: Δt
 
 Checks at every output (fluid.h5 /fields/NNNNNN: phi_s, the structure level set, ny × nx at cell centres,
 x and y of the centres in fluid.h5 /x, /y), against the plate's exact position D sin²(π t / T) n at the
-output's time, computed here:
+start of the output's last step (the positions φ_s was rebuilt from; fluid.h5 /interface), computed here:
 - every value of every dataset of the output is finite (no unset or non-finite cell), and in every water
   cell (its centre outside the plate by more than half a cell diagonal) ρ lies in [900, 1100] kg/m³ (the
   isentrope at p0 ± 77 MPa: 920 to 1055) and p in (A − B, 1e9) Pa;
@@ -121,9 +121,15 @@ def main():
         X, Y = np.meshgrid(f["x"][:], f["y"][:])  # ny × nx, as the fields
         groups = sorted(f["fields"].values(), key=lambda g: float(g.attrs["time"]))
         check(len(groups) >= 5, f"outputs at 0, T/4, T/2, 3T/4, T ({len(groups)} written)")
+        steps = f["interface"]
+        starts, ends = steps["t"][:], steps["t"][:] + steps["dt"][:]
         for g in groups:
             t = float(g.attrs["time"])
-            d = D * math.sin(math.pi * t / period) ** 2
+            # φ_s of an output is the one its last step was taken with: rebuilt from the positions the
+            # structure offered at the start of that step (one step's motion, up to 0.002 Δx, before t).
+            k = int(np.argmin(np.abs(ends - t)))
+            t_geometry = float(starts[k]) if t > 0 else 0.0
+            d = D * math.sin(math.pi * t_geometry / period) ** 2
             s, q = plate_frame(X, Y, d)
             label = f"t = {t:.4g} s (d = {d / DX:.2f} cells)"
             bad = [name for name, ds in g.items() if isinstance(ds, h5py.Dataset) and not np.all(np.isfinite(ds[()]))]
