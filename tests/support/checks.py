@@ -48,7 +48,10 @@ def _structure_record(structure):
     if structure.endswith(".h5"):
         with h5py.File(structure, "r") as f:
             c = f["coupling"]
-            return c["t"][:], c["dt"][:], c["dt_s"][:]
+            t, dt, dt_s = c["t"][:], c["dt"][:], c["dt_s"][:]
+        # undex-solid in 2D writes one row per step and wet node: the first row of each step (t increases).
+        first = np.sort(np.unique(t, return_index=True)[1])
+        return t[first], dt[first], dt_s[first]
     lines = open(structure).read().splitlines()
     cols = lines[0].split(",")
     rows = np.array([[float(v) for v in line.split(",")] for line in lines[1:]]).reshape(-1, len(cols))
