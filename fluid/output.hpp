@@ -13,8 +13,10 @@
 //   /gauges/NAME     t, rho, u, v, p: time series at the gauge point
 //   /interface       coupled runs, per step. 1D: t, dt, p_L, u_L, Z_L, p_I, u_I, displacement, dt_f, dt_s;
 //                    2D: t, dt, dt_f, dt_s, work (Σ_k p_I u_I A_k Δt of the step), total_work
-//   /wet_nodes       2D coupled runs, at every fields output after the first step, per wet node: t, node, face,
-//                    x, y (end of the step), p_L, u_L, p_I, u_I, area
+//   /wet_nodes       2D coupled runs, at every fields output after the first step, per wet node: t, node,
+//   face,
+//                    x, y (end of the step), p_L, u_L, p_I, u_I, area (of the positions at the start of the
+//                    step)
 // The file is flushed after every write, so a run that stops leaves every completed output readable;
 // fluid.xmf lists the outputs flushed and is replaced whole (h5::write_file_atomically). A write that fails
 // throws h5::Error naming the file, the object and the cause.

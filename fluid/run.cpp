@@ -56,9 +56,7 @@ class StructureLink {
             for (size_t k = 0; k < iface.size(); ++k)
                 if (iface.x[k] < m.x_min - tol || iface.x[k] > m.x_max + tol || iface.y[k] < m.y_min - tol ||
                     iface.y[k] > m.y_max + tol)
-                    refuse(where(iface, k) + " lies outside the fluid domain [" + std::to_string(m.x_min) +
-                           ", " + std::to_string(m.x_max) + "] x [" + std::to_string(m.y_min) + ", " +
-                           std::to_string(m.y_max) + "]");
+                    refuse(where(iface, k) + " lies outside the fluid domain " + box(m));
             try {
                 wet_->attach(iface.face, iface.x, iface.y, iface.normal_x, iface.normal_y);
             } catch (const std::exception& e) {
@@ -80,6 +78,11 @@ class StructureLink {
     std::unique_ptr<coupling::FluidParticipant> link_;
     std::vector<double> x0_I_, y0_I_;
     WetSolver* wet_ = nullptr;
+    static std::string box(const Mesh& m) {
+        std::ostringstream s;
+        s << "[" << m.x_min << ", " << m.x_max << "] x [" << m.y_min << ", " << m.y_max << "] m";
+        return s.str();
+    }
     std::string where(const coupling::Interface& i, size_t k) const {
         std::ostringstream s;
         s << "the structure solver (" << link_->peer_solver() << ") puts wet node " << k << " of face "
@@ -289,12 +292,15 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
     validate(c); // first: the plan's output times are counted there before they are made
     const RunPlan p = plan(c);
     const bool coupled = coupled_case(c);
+    const bool two_d =
+        c.get().geometry() == config::PLANAR_2D || c.get().geometry() == config::AXISYMMETRIC_2D;
+    const char* where = two_d ? "structure" : "boundaries.x_max";
     if (coupled && couple.empty())
-        c.fail("boundaries.x_max",
-               "the case couples the fluid to a structure: run it with `undex run`, or give "
-               "undex-fluid --couple ENDPOINT and start a structure solver on it");
+        c.fail(where, "the case couples the fluid to a structure: run it with `undex run`, or give "
+                      "undex-fluid --couple ENDPOINT and start a structure solver on it");
     if (!coupled && !couple.empty())
-        c.fail("boundaries.x_max", "--couple needs a structure in the case (x_max: STRUCTURE)");
+        c.fail(where, two_d ? "--couple needs a structure in the case"
+                            : "--couple needs a structure in the case (x_max: STRUCTURE)");
 #ifdef _OPENMP
     if (p.threads > 0) omp_set_num_threads(p.threads);
     const int threads = omp_get_max_threads();

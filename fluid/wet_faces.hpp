@@ -113,16 +113,22 @@ class WetFaces {
     }
 
     // Distance from (px, py) to the segment from node a to a + 1, with the closest point's parameter and
-    // normal (at an end of the segment: the node's corner normal).
-    ClosestPoint to_segment(int a, double px, double py) const {
+    // normal (at an end of the segment: the node's corner normal). With `rays`, a face's first and last
+    // segments continue beyond its ends as straight rays (t < 0, t > 1): the structure of a face that ends
+    // inside the fluid's domain is taken to continue along its end segments, so that its side is decided
+    // near the face and its rays alone (the fluid's use: fluid/wet_fluid.hpp).
+    ClosestPoint to_segment(int a, double px, double py, bool rays = false) const {
         const double tx = x_[a + 1] - x_[a], ty = y_[a + 1] - y_[a];
-        const double t = std::clamp(((px - x_[a]) * tx + (py - y_[a]) * ty) / (tx * tx + ty * ty), 0.0, 1.0);
+        const int f = face_[a];
+        const double lo = rays && a == begin(f) ? -std::numeric_limits<double>::infinity() : 0.0;
+        const double hi = rays && a + 2 == end(f) ? std::numeric_limits<double>::infinity() : 1.0;
+        const double t = std::clamp(((px - x_[a]) * tx + (py - y_[a]) * ty) / (tx * tx + ty * ty), lo, hi);
         ClosestPoint c;
         c.a = a;
         c.t = t;
         const double cx = t == 1.0 ? x_[a + 1] : x_[a] + t * tx, cy = t == 1.0 ? y_[a + 1] : y_[a] + t * ty;
         c.distance = std::hypot(px - cx, py - cy);
-        if (t > 0.0 && t < 1.0) {
+        if (t != 0.0 && t != 1.0) { // inside the segment or on a ray
             c.nx = snx_[a], c.ny = sny_[a];
         } else {
             const std::array<double, 2> n = corner_normal(t == 0.0 ? a : a + 1);

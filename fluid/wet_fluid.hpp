@@ -7,9 +7,11 @@
 //   cells inside the structure hold no fluid and cost nothing.
 // - φ_f is rebuilt every step from the node positions the structure offers (exact, no drift), but only in
 //   the cells within `band_cells + 2` cells of a segment (each segment visits the cells of its bounding box
-//   grown by that much: a binned search, linear in the segments). Elsewhere only the sign matters, and it
-//   cannot change while the faces move less than a cell per step (the CFL bound); it is set once, exactly,
-//   when the structure attaches.
+//   grown by that much: a binned search, linear in the segments). A face that ends inside the domain is
+//   continued along its end segments by rays to the domain's boundary (WetFaces::to_segment with rays): the
+//   structure is taken to span the domain, and the band around a face and its rays separates its sides.
+//   Elsewhere only the sign matters; it cannot change while the faces move less than a cell per step (the
+//   CFL bound), and it is set once, by a flood fill from the band, when the structure attaches.
 // - The ghost band 0 ≤ φ_f < band_cells · h (h = max(Δx, Δy)) of each face is set at every stage, as the
 //   domain's ghost cells are: pressure and normal velocity (p_I, u_I) of the structure interpolated along the
 //   face at the cell's closest point, tangential velocity of the fluid (slip), density on the fluid's wall
@@ -56,33 +58,15 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
             side->phi.assign(n, 0.0);
             sides_.push_back(std::move(side));
         }
-        // Every cell's sign, once: the distance to the whole face.
-        for (int f = 0; f < faces_->faces(); ++f)
-            far_signs(f, false);
-        // Each face's fluid is the side of that face; the sides of two faces must not meet (a plate with
-        // water on both faces spans the fluid domain from boundary to boundary). Where they would, the
-        // fluid runs around the structure's end, which this method does not model.
-        for (long c = 0; c < n; ++c)
-            for (int f = 0; f + 1 < faces_->faces(); ++f)
-                for (int g = f + 1; g < faces_->faces(); ++g)
-                    if (sides_[f]->phi[c] < 0 && sides_[g]->phi[c] < 0) {
-                        std::ostringstream s;
-                        s << "cell (" << c % mesh_.nx << ", " << c / mesh_.nx
-                          << ") at x = " << mesh_.xc(c % mesh_.nx)
-                          << ", y = " << mesh_.yc(static_cast<int>(c / mesh_.nx))
-                          << " lies on the fluid side of wet faces " << f << " and " << g
-                          << ": the faces cross, or their water would meet around the structure's end (a "
-                             "structure wet on two faces must span the fluid domain from boundary to "
-                             "boundary)";
-                        throw std::invalid_argument(s.str());
-                    }
+        for (auto& sd : sides_)
+            std::fill(sd->phi.begin(), sd->phi.end(), std::numeric_limits<double>::quiet_NaN());
         for (int f = 0; f < faces_->faces(); ++f) {
             Side& sd = *sides_[f];
             sd.scheme->set_active(&sd.mask);
             sd.scheme->set_stage_ghosts([this, f](double* U) { fill_band(f, U); });
         }
         base_.reset();
-        rebuild();
+        rebuild(true);
     }
 
     void move(const std::vector<double>& x, const std::vector<double>& y) override {
@@ -356,9 +340,10 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
     // The cell containing (x, y), and its neighbour across an edge that (x, y) lies on (up to four cells).
     std::vector<long> cells_at(double x, double y) const {
         const double fx = (x - mesh_.x_min) / mesh_.dx, fy = (y - mesh_.y_min) / mesh_.dy;
-        const int i = std::clamp(static_cast<int>(std::floor(fx)), 0, mesh_.nx - 1);
-        const int j = std::clamp(static_cast<int>(std::floor(fy)), 0, mesh_.ny - 1);
-        const bool ex = fx == std::floor(fx) && i > 0, ey = fy == std::floor(fy) && j > 0;
+        const int fi = static_cast<int>(std::floor(fx)), fj = static_cast<int>(std::floor(fy));
+        const int i = std::clamp(fi, 0, mesh_.nx - 1), j = std::clamp(fj, 0, mesh_.ny - 1);
+        // On an edge between two cells of the domain (not on the domain's own edge).
+        const bool ex = fx == fi && fi > 0 && fi < mesh_.nx, ey = fy == fj && fj > 0 && fj < mesh_.ny;
         std::vector<long> c = {at(i, j)};
         if (ex) c.push_back(at(i - 1, j));
         if (ey) c.push_back(at(i, j - 1));
@@ -373,40 +358,10 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         return true;
     }
 
-    // Whether both ends of face f lie on the domain's boundary: the face then splits the domain, and cells
-    // farther than far() from it keep their side while it moves less than a cell per step. A face that ends
-    // inside the domain has a side whose border beyond its ends (the extension of its end segments) sweeps
-    // through far cells as it moves: their signs are recomputed every step, at the cost of every cell times
-    // every segment of the face.
-    bool spans(int f) const {
-        const WetFaces& w = *faces_;
-        const double tol = 1e-9 * std::max(mesh_.x_max - mesh_.x_min, mesh_.y_max - mesh_.y_min);
-        auto edge = [&](int k) {
-            return std::abs(w.x(k) - mesh_.x_min) <= tol || std::abs(w.x(k) - mesh_.x_max) <= tol ||
-                   std::abs(w.y(k) - mesh_.y_min) <= tol || std::abs(w.y(k) - mesh_.y_max) <= tol;
-        };
-        return edge(w.begin(f)) && edge(w.end(f) - 1);
-    }
-    // ±far() in the cells of face f beyond the band (all cells: every cell), by the closest point of the
-    // whole face.
-    void far_signs(int f, bool beyond_band_only) {
-        Side& sd = *sides_[f];
-#pragma omp parallel for schedule(static)
-        for (int j = 0; j < mesh_.ny; ++j)
-            for (int i = 0; i < mesh_.nx; ++i) {
-                if (beyond_band_only && std::abs(sd.phi[at(i, j)]) < far()) continue;
-                ClosestPoint best;
-                for (int a = faces_->begin(f); a + 1 < faces_->end(f); ++a) {
-                    const ClosestPoint c = faces_->to_segment(a, mesh_.xc(i), mesh_.yc(j));
-                    if (c.distance < best.distance) best = c;
-                }
-                const double d = faces_->signed_distance(best, mesh_.xc(i), mesh_.yc(j));
-                sd.phi[at(i, j)] = d < 0 ? -far() : far();
-            }
-    }
-
     // φ of every face near its segments, the real cells and the ghost bands, from the current positions.
-    void rebuild() {
+    // At attach (first): the cells beyond the computed band take the side of the band cells they connect
+    // to (a flood fill: the band around a face and its rays, 5 cells thick, separates the sides).
+    void rebuild(bool first = false) {
         const WetFaces& w = *faces_;
         const double reach = far();
         for (int f = 0; f < w.faces(); ++f) {
@@ -415,10 +370,16 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
                 sd.phi[c] = sd.phi[c] < 0 ? -reach : reach;
             sd.near.clear();
             for (int a = w.begin(f); a + 1 < w.end(f); ++a) {
-                const double x0 = std::min(w.x(a), w.x(a + 1)) - reach,
-                             x1 = std::max(w.x(a), w.x(a + 1)) + reach;
-                const double y0 = std::min(w.y(a), w.y(a + 1)) - reach,
-                             y1 = std::max(w.y(a), w.y(a + 1)) + reach;
+                // The segment, continued to the domain's far side along a ray at the face's ends.
+                const double len = std::hypot(w.x(a + 1) - w.x(a), w.y(a + 1) - w.y(a));
+                const double far_t = std::hypot(mesh_.x_max - mesh_.x_min, mesh_.y_max - mesh_.y_min) / len;
+                const double t0 = a == w.begin(f) ? -far_t : 0.0, t1 = a + 2 == w.end(f) ? 1.0 + far_t : 1.0;
+                const double xa = w.x(a) + t0 * (w.x(a + 1) - w.x(a)),
+                             xb = w.x(a) + t1 * (w.x(a + 1) - w.x(a));
+                const double ya = w.y(a) + t0 * (w.y(a + 1) - w.y(a)),
+                             yb = w.y(a) + t1 * (w.y(a + 1) - w.y(a));
+                const double x0 = std::min(xa, xb) - reach, x1 = std::max(xa, xb) + reach;
+                const double y0 = std::min(ya, yb) - reach, y1 = std::max(ya, yb) + reach;
                 const int i0 = std::max(0, static_cast<int>(std::floor((x0 - mesh_.x_min) / mesh_.dx)));
                 const int i1 =
                     std::min(mesh_.nx - 1, static_cast<int>(std::floor((x1 - mesh_.x_min) / mesh_.dx)));
@@ -427,7 +388,7 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
                     std::min(mesh_.ny - 1, static_cast<int>(std::floor((y1 - mesh_.y_min) / mesh_.dy)));
                 for (int j = j0; j <= j1; ++j)
                     for (int i = i0; i <= i1; ++i) {
-                        const ClosestPoint cp = w.to_segment(a, mesh_.xc(i), mesh_.yc(j));
+                        const ClosestPoint cp = w.to_segment(a, mesh_.xc(i), mesh_.yc(j), true);
                         if (cp.distance >= reach) continue;
                         Nearest& nb = nearest_[at(i, j)];
                         if (nb.a < 0) sd.near.push_back(at(i, j));
@@ -438,27 +399,21 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
             const double band = band_cells_ * h();
             for (const long c : sd.near) {
                 const int i = static_cast<int>(c % mesh_.nx), j = static_cast<int>(c / mesh_.nx);
-                const ClosestPoint cp = w.to_segment(nearest_[c].a, mesh_.xc(i), mesh_.yc(j));
+                const ClosestPoint cp = w.to_segment(nearest_[c].a, mesh_.xc(i), mesh_.yc(j), true);
                 nearest_[c] = Nearest{};
                 const double d = w.signed_distance(cp, mesh_.xc(i), mesh_.yc(j));
                 sd.phi[c] = d;
                 if (d >= 0 && d < band) sd.ghosts.push_back({i, j, cp.a, cp.t, cp.nx, cp.ny, -1, -1});
             }
         }
-        bool all_span = true;
-        for (int f = 0; f < w.faces(); ++f)
-            if (!spans(f)) far_signs(f, true), all_span = false;
-        std::vector<long> every;
-        if (!all_span) {
-            every.resize(cells());
-            for (long c = 0; c < cells(); ++c)
-                every[c] = c;
-        }
+        if (first)
+            for (auto& sd : sides_)
+                flood_sides(*sd);
         // Real cells; a cell on the fluid side of two faces means the faces cross (or, for faces that end
         // inside the domain, that the water of both meets around an end).
         for (int f = 0; f < w.faces(); ++f) {
             Side& sd = *sides_[f];
-            for (const long c : all_span ? sd.near : every)
+            for (const long c : first ? all_cells() : sd.near)
                 for (int g = 0; g < w.faces(); ++g)
                     if (g != f && sd.phi[c] < 0 && sides_[g]->phi[c] < 0) {
                         std::ostringstream s;
@@ -482,14 +437,41 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         }
     }
 
+    std::vector<long> all_cells() const {
+        std::vector<long> c(cells());
+        for (long k = 0; k < cells(); ++k)
+            c[k] = k;
+        return c;
+    }
+    // Cells whose φ is not set (NaN) take ±far() of the set cells they connect to, breadth first.
+    void flood_sides(Side& sd) const {
+        std::vector<long> queue(sd.near.begin(), sd.near.end());
+        for (size_t q = 0; q < queue.size(); ++q) {
+            const long c = queue[q];
+            const int i = static_cast<int>(c % mesh_.nx), j = static_cast<int>(c / mesh_.nx);
+            const double side = sd.phi[c] < 0 ? -far() : far();
+            const int ni[4] = {i - 1, i + 1, i, i}, nj[4] = {j, j, j - 1, j + 1};
+            for (int m = 0; m < 4; ++m) {
+                if (ni[m] < 0 || ni[m] >= mesh_.nx || nj[m] < 0 || nj[m] >= mesh_.ny) continue;
+                const long n = at(ni[m], nj[m]);
+                if (!std::isnan(sd.phi[n])) continue;
+                sd.phi[n] = side;
+                queue.push_back(n);
+            }
+        }
+        for (double& v : sd.phi)
+            if (std::isnan(v)) v = far(); // no face near: a region cut off from the water (none in practice)
+    }
+
     // The ghost band of face f in stage coefficients U (called by the scheme at every stage).
     void fill_band(int f, double* U) const {
         const S& sc = *sides_[f]->scheme;
         for (const Ghost& g : sides_[f]->ghosts) {
             if (g.si < 0) continue; // no fluid next to it: keeps its last state
             const Primitive s = sc.average_in(U, g.si, g.sj);
-            const double p_I = (1 - g.t) * p_I_[g.a] + g.t * p_I_[g.a + 1];
-            const double u_I = (1 - g.t) * u_I_[g.a] + g.t * u_I_[g.a + 1];
+            const double t = std::clamp(g.t, 0.0, 1.0); // on a ray: the end node's values
+            const double p_I = (1 - t) * p_I_[g.a] + t * p_I_[g.a + 1];
+            const double u_I = (1 - t) * u_I_[g.a] + t * u_I_[g.a + 1];
             const double un = s.u * g.nx + s.v * g.ny;
             const double rho = sc.eos().wall_density(s.rho, s.p, p_I);
             sc.set_state_in(U, g.i, g.j, {rho, s.u + (u_I - un) * g.nx, s.v + (u_I - un) * g.ny, p_I});

@@ -84,6 +84,21 @@ TEST(WetFaces, SignedDistanceToATiltedFace) {
     // Beyond the far end, on the structure's side: the distance to the end node.
     const double ex = 2 * c + 0.4 * c - 0.1 * s, ey = 2 * s + 0.4 * s + 0.1 * c;
     EXPECT_NEAR(phi(ex, ey), std::hypot(0.4, 0.1), 1e-14);
+    // With rays (the fluid's use), the face continues along its end segments: the distance to the line.
+    ClosestPoint ray;
+    for (int a = 0; a + 1 < w.nodes(); ++a) {
+        const ClosestPoint cp = w.to_segment(a, ex, ey, true);
+        if (cp.distance < ray.distance) ray = cp;
+    }
+    EXPECT_NEAR(w.signed_distance(ray, ex, ey), 0.1, 1e-14);
+    EXPECT_GT(ray.t, 1.0);
+    const double bx2 = -0.3 * c + 0.2 * s, by2 = -0.3 * s - 0.2 * c; // before the first node, fluid side
+    ClosestPoint back;
+    for (int a = 0; a + 1 < w.nodes(); ++a) {
+        const ClosestPoint cp = w.to_segment(a, bx2, by2, true);
+        if (cp.distance < back.distance) back = cp;
+    }
+    EXPECT_NEAR(w.signed_distance(back, bx2, by2), -0.2, 1e-14);
 }
 
 TEST(WetFaces, NodesThatCoincideAreRefused) {
