@@ -62,6 +62,9 @@ TEST(WetFaces, CornerNodeAddsItsSegmentsAsVectors) {
     EXPECT_NEAR(w.normal(1)[0], 0.0, 1e-15);
     EXPECT_NEAR(w.normal(1)[1], 1.0, 1e-15);
     EXPECT_NEAR(w.normal(0)[0], n1[0], 1e-15);
+    // The corner normal that signs distances to the node: the bisector too.
+    EXPECT_NEAR(w.corner_normal(1)[0], 0.0, 1e-15);
+    EXPECT_NEAR(w.corner_normal(1)[1], 1.0, 1e-15);
 }
 
 // Signed distances of points around a tilted face against plane geometry; beyond an end, the distance to
