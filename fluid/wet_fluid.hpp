@@ -69,13 +69,19 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         rebuild(true);
     }
 
+    // On a geometry it cannot hold, the faces, φ and the real cells are those of the last good positions
+    // again before the failure is thrown, so that the last good state is written with them.
     void move(const std::vector<double>& x, const std::vector<double>& y) override {
+        const WetFaces good = *faces_;
         try {
             faces_->set_positions(x, y);
-        } catch (const std::invalid_argument& e) {
+            rebuild();
+        } catch (const std::exception& e) {
+            *faces_ = good;
+            rebuild();
+            if (const auto* f = dynamic_cast<const SolverFailure*>(&e)) throw *f;
             fail(e.what());
         }
-        rebuild();
     }
 
     const WetFaces& faces() const override { return *faces_; }
