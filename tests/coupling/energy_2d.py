@@ -26,7 +26,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "support"))
-import checks  # noqa: E402
+from checks import check, coupled_steps, finish  # noqa: E402
 
 GAMMA, PINF, DX = 7.15, 3.309e8, 0.02
 
@@ -60,16 +60,9 @@ output {{ times: {times} directory: "{work}" }}
     with open(path, "w") as f:
         f.write(case)
     r = subprocess.run([os.path.join(a.build, "bin", "undex"), "run", path], capture_output=True, text=True)
-    ok = True
-
-    def check(cond, what, detail=""):
-        nonlocal ok
-        print(("ok: " if cond else "FAIL: ") + what + ("" if cond else "\n" + detail), flush=True)
-        ok = ok and cond
-
     check(r.returncode == 0, "the run completes", r.stdout[-2000:] + r.stderr[-2000:])
     if r.returncode != 0:
-        return 1
+        finish()
     with h5py.File(os.path.join(work, "fluid.h5")) as f, h5py.File(os.path.join(work, "moving_plate.h5")) as s:
         i = f["interface"]
         t_end = i["t"][:] + i["dt"][:]
@@ -93,10 +86,10 @@ output {{ times: {times} directory: "{work}" }}
             check(abs(bal) <= 0.036, f"t = {T:.1e} s: (ΔE + W) / |W| = {bal:.2e} (W = {W[k]:.4g} J), |.| <= 0.036")
             dm = (G.attrs["mass"] - M0) / M0
             check(abs(dm) <= 1e-5, f"t = {T:.1e} s: mass change {dm:.1e} <= 1e-5")
-    problems, summary = checks.coupled_steps(work, os.path.join(work, "moving_plate.h5"), 4e-4, times + [4e-4])
+    problems, summary = coupled_steps(work, os.path.join(work, "moving_plate.h5"), 4e-4, times + [4e-4])
     check(not problems, "both sides took the same steps, dt = min(dt_f, dt_s): " + summary, "\n".join(problems))
-    return 0 if ok else 1
+    finish()
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

@@ -23,7 +23,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "support"))
-import checks  # noqa: E402
+from checks import check, coupled_steps, finish  # noqa: E402
 
 P0, RHO1 = 1e5, 1000.4
 
@@ -59,16 +59,9 @@ output {{ times: [1e-4] directory: "{work}" }}
     with open(path, "w") as f:
         f.write(case)
     r = subprocess.run([os.path.join(a.build, "bin", "undex"), "run", path], capture_output=True, text=True)
-    ok = True
-
-    def check(cond, what, detail=""):
-        nonlocal ok
-        print(("ok: " if cond else "FAIL: ") + what + ("" if cond else "\n" + detail), flush=True)
-        ok = ok and cond
-
     check(r.returncode == 0, "the run completes", r.stdout[-2000:] + r.stderr[-2000:])
     if r.returncode != 0:
-        return 1
+        finish()
     with h5py.File(os.path.join(work, "fluid.h5")) as f:
         y = f["y"][:]
         for g in f["fields"]:
@@ -82,10 +75,10 @@ output {{ times: [1e-4] directory: "{work}" }}
                   f"{below.sum()} cells below, {above.sum()} above")
             check(err <= 1e-9, f"t = {f['fields'][g].attrs['time']:.3g} s: each side keeps its pressure: "
                   f"{err:.2e} of p1 - p0 <= 1e-9")
-    problems, summary = checks.coupled_steps(work, os.path.join(work, "moving_plate.h5"), 2e-4, [1e-4, 2e-4])
+    problems, summary = coupled_steps(work, os.path.join(work, "moving_plate.h5"), 2e-4, [1e-4, 2e-4])
     check(not problems, "both sides took the same steps, dt = min(dt_f, dt_s): " + summary, "\n".join(problems))
-    return 0 if ok else 1
+    finish()
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()
