@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The fluid's side of bad 2D wet faces (issue 15, item 8), against prescribed-motion plates that send them
 # (tests/coupling/moving_plate.py): a wet node outside the fluid's domain (refused at the handshake: a
-# coupling failure, exit 3) and a wet face with no water next to it (the fluid's sample fails: exit 2). Each: both
+# coupling failure, exit 3) and a wet face with no water next to it (the fluid's sample fails: exit 2);
+# and a 2D case with a structure at degree 2 and CFL above 0.15 (refused at --check). Each: both
 # processes stop, the message names what and where, and fluid.h5 stays readable with its status.
 #   usage: bad_wet_faces.sh BIN_DIR PYTHON_DIR SOURCE_DIR
 set -u
@@ -48,6 +49,13 @@ with h5py.File('$out/fluid.h5') as f:
 run outside "--faces 1 --nodes 11 --xc 0 --yc 1.2 --length 0.5" 3 "lies outside the fluid domain"
 # Face 0 on the domain's lower edge with the structure above it: no water below it in the domain.
 run no-water "--faces 1 --nodes 21 --xc 0 --yc 0 --length 1.0" 2 "has no fluid within 3 cells along its normal"
+
+# Degree 2 at the default CFL 0.2 next to a structure in 2D: refused at --check, naming numerics.cfl.
+sed -e 's/numerics { degree: 1 threads: 1 }/numerics { degree: 2 }/' "$TMP/outside/case.case" > "$TMP/p2.case"
+if ! "$BIN/undex-fluid" --check "$TMP/p2.case" > /dev/null 2> "$TMP/p2.err" &&
+    grep -q "numerics.cfl: degree 2 next to a structure in 2D is unstable above CFL 0.15" "$TMP/p2.err"; then
+    echo "ok: degree 2 at CFL 0.2: $(cat "$TMP/p2.err")"; passed=$((passed + 1))
+else echo "FAIL: degree 2 at CFL 0.2 not refused: $(cat "$TMP/p2.err")"; failed=$((failed + 1)); fi
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
