@@ -196,6 +196,13 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     void set_stage_ghosts(std::function<void(double*)> f) {
         stage_ghosts_ = std::move(f);
     }
+    // This scheme as the one scheme of its fluid (TwoFluid has two), for code written for one or two fluids.
+    template <class F> void for_each_scheme(F&& f) {
+        f(*this);
+    }
+    template <class F> decltype(auto) scheme_at(int, int, F&& f) const {
+        return f(*this);
+    }
     // The cell-average state of cell (i, j) of stage coefficients U, and a constant state written there.
     Primitive average_in(const double* U, int i, int j) const {
         return euler::to_primitive<D>(eos_, euler::Strided<const double>{cell(U, i, j), NB});

@@ -392,14 +392,7 @@ void validate_boundaries(const CaseFile& cf) {
             cf.fail("boundaries.x_max", "a STRUCTURE boundary needs a structure in the case");
         if (c.geometry() != cfg::PLANAR_1D)
             cf.fail("boundaries.x_max", "coupling to a structure is available in PLANAR_1D cases for now");
-    } else if (c.has_structure() && two_d) {
-        for (int r = 1; r < c.regions_size(); ++r)
-            if (c.regions(r).material() != c.regions(0).material())
-                cf.fail(
-                    "regions[" + std::to_string(r) + "].material",
-                    "two fluids together with a structure in 2D are not supported yet: one fluid around the "
-                    "structure");
-    } else if (c.has_structure()) {
+    } else if (c.has_structure() && !two_d) {
         cf.fail("boundaries.x_max", "with a structure in the case, the fluid's x_max side is its wet face: "
                                     "STRUCTURE");
     }
@@ -519,8 +512,8 @@ Boundary boundary(const cfg::Boundary& b) {
 }
 
 template <int D, int K, class Eos>
-std::unique_ptr<FluidSolver> build(const cfg::Case& c, const Mesh& mesh, const Eos& eos, const Settings& s,
-                                   const std::array<Boundary, 4>& bc) {
+std::unique_ptr<Scheme<D, K, Eos>> build(const cfg::Case& c, const Mesh& mesh, const Eos& eos,
+                                         const Settings& s, const std::array<Boundary, 4>& bc) {
     auto solver = std::make_unique<Scheme<D, K, Eos>>(mesh, eos, s, bc);
     solver->project([&](double x, double y, double* q) {
         const cfg::Region* reg = &c.regions(0);
@@ -529,34 +522,6 @@ std::unique_ptr<FluidSolver> build(const cfg::Case& c, const Mesh& mesh, const E
         euler::to_conserved<D>(eos, Primitive{reg->rho(), reg->u(), reg->v(), reg->p()}, q);
     });
     return solver;
-}
-
-// A 2D fluid around a structure (fluid/wet_fluid.hpp): the wet faces attach when the structure solver
-// sends them.
-template <int K, class Eos>
-std::unique_ptr<FluidSolver> build_wet(const cfg::Case& c, const Mesh& mesh, const Eos& eos,
-                                       const Settings& s, const std::array<Boundary, 4>& bc) {
-    auto solver = std::make_unique<WetFluid<K, Eos>>(mesh, eos, s, bc);
-    solver->project([&](double x, double y, double* q) {
-        const cfg::Region* reg = &c.regions(0);
-        for (const auto& r : c.regions())
-            if (inside(r, x, y)) reg = &r;
-        euler::to_conserved<2>(eos, Primitive{reg->rho(), reg->u(), reg->v(), reg->p()}, q);
-    });
-    return solver;
-}
-
-template <class Eos>
-std::unique_ptr<FluidSolver> build_wet_degree(const cfg::Case& c, const Mesh& m, const Eos& eos,
-                                              const Settings& s, const std::array<Boundary, 4>& bc) {
-    switch (s.degree) {
-    case 0:
-        return build_wet<0>(c, m, eos, s, bc);
-    case 1:
-        return build_wet<1>(c, m, eos, s, bc);
-    default:
-        return build_wet<2>(c, m, eos, s, bc);
-    }
 }
 
 template <int D, class Eos>
@@ -603,9 +568,9 @@ void state_of(const cfg::Case& c, const std::string& name, const Eos& eos, doubl
 }
 
 template <int D, int K, class EosM, class EosP>
-std::unique_ptr<FluidSolver> build_two(const cfg::Case& c, const Mesh& mesh, const EosM& em, const EosP& ep,
-                                       const Settings& s, const std::array<Boundary, 4>& bc,
-                                       const InterfaceSettings& is) {
+std::unique_ptr<TwoFluid<D, K, EosM, EosP>>
+build_two(const cfg::Case& c, const Mesh& mesh, const EosM& em, const EosP& ep, const Settings& s,
+          const std::array<Boundary, 4>& bc, const InterfaceSettings& is) {
     const std::string plus = c.regions(0).material();
     std::string minus;
     for (const auto& r : c.regions())
@@ -632,11 +597,61 @@ std::unique_ptr<FluidSolver> build_two_dim(const cfg::Case& c, const Mesh& m, co
     const bool one = m.dim == 1;
     switch (s.degree) {
     case 0:
-        return one ? build_two<1, 0>(c, m, em, ep, s, bc, is) : build_two<2, 0>(c, m, em, ep, s, bc, is);
+        if (one) return build_two<1, 0>(c, m, em, ep, s, bc, is);
+        return build_two<2, 0>(c, m, em, ep, s, bc, is);
     case 1:
-        return one ? build_two<1, 1>(c, m, em, ep, s, bc, is) : build_two<2, 1>(c, m, em, ep, s, bc, is);
+        if (one) return build_two<1, 1>(c, m, em, ep, s, bc, is);
+        return build_two<2, 1>(c, m, em, ep, s, bc, is);
     default:
-        return one ? build_two<1, 2>(c, m, em, ep, s, bc, is) : build_two<2, 2>(c, m, em, ep, s, bc, is);
+        if (one) return build_two<1, 2>(c, m, em, ep, s, bc, is);
+        return build_two<2, 2>(c, m, em, ep, s, bc, is);
+    }
+}
+
+// A 2D fluid around a structure (fluid/wet_fluid.hpp): one fluid, or two (a gas bubble in water). Each wet
+// face gets its own fluid, built from the case when the structure attaches; the case is copied so that the
+// builder outlives the caller's.
+template <int K, class Eos>
+std::unique_ptr<FluidSolver> build_wet(const cfg::Case& c, const Mesh& m, const Eos& eos, const Settings& s,
+                                       const std::array<Boundary, 4>& bc) {
+    using F = Scheme<2, K, Eos>;
+    return std::make_unique<WetFluid<K, F>>(
+        m, std::function<std::unique_ptr<F>()>(
+               [c = cfg::Case(c), m, eos, s, bc] { return build<2, K>(c, m, eos, s, bc); }));
+}
+template <int K, class EosM, class EosP>
+std::unique_ptr<FluidSolver> build_wet_two(const cfg::Case& c, const Mesh& m, const EosM& em, const EosP& ep,
+                                           const Settings& s, const std::array<Boundary, 4>& bc,
+                                           const InterfaceSettings& is) {
+    using F = TwoFluid<2, K, EosM, EosP>;
+    return std::make_unique<WetFluid<K, F>>(
+        m, std::function<std::unique_ptr<F>()>([c = cfg::Case(c), m, em, ep, s, bc, is] {
+            return build_two<2, K>(c, m, em, ep, s, bc, is);
+        }));
+}
+template <class Eos>
+std::unique_ptr<FluidSolver> build_wet_degree(const cfg::Case& c, const Mesh& m, const Eos& eos,
+                                              const Settings& s, const std::array<Boundary, 4>& bc) {
+    switch (s.degree) {
+    case 0:
+        return build_wet<0>(c, m, eos, s, bc);
+    case 1:
+        return build_wet<1>(c, m, eos, s, bc);
+    default:
+        return build_wet<2>(c, m, eos, s, bc);
+    }
+}
+template <class EosM, class EosP>
+std::unique_ptr<FluidSolver>
+build_wet_two_degree(const cfg::Case& c, const Mesh& m, const EosM& em, const EosP& ep, const Settings& s,
+                     const std::array<Boundary, 4>& bc, const InterfaceSettings& is) {
+    switch (s.degree) {
+    case 0:
+        return build_wet_two<0>(c, m, em, ep, s, bc, is);
+    case 1:
+        return build_wet_two<1>(c, m, em, ep, s, bc, is);
+    default:
+        return build_wet_two<2>(c, m, em, ep, s, bc, is);
     }
 }
 
@@ -684,13 +699,9 @@ std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
     const cfg::Region* other = nullptr;
     for (const auto& r : c.regions())
         if (r.material() != c.regions(0).material() && !other) other = &r;
-    if (mesh.dim == 2 && c.has_structure()) {
-        if (other)
-            cf.fail("regions",
-                    "two fluids together with a structure in 2D are not supported yet: one fluid (water) "
-                    "around the structure");
+    const bool wet = mesh.dim == 2 && c.has_structure();
+    if (!other && wet)
         return std::visit([&](const auto& eos) { return build_wet_degree(c, mesh, eos, s, bc); }, eos_plus);
-    }
     if (!other) return std::visit([&](const auto& eos) { return build_dim(c, mesh, eos, s, bc); }, eos_plus);
     InterfaceSettings is;
     const auto& in = c.interface();
@@ -702,6 +713,10 @@ std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
     is.reinit_every = in.reinit_every();
     is.reinit_iterations = in.reinit_iterations();
     const auto eos_minus = eos_of(c.materials(material_index(c, other->material())), &c);
+    if (wet)
+        return std::visit(
+            [&](const auto& em, const auto& ep) { return build_wet_two_degree(c, mesh, em, ep, s, bc, is); },
+            eos_minus, eos_plus);
     return std::visit(
         [&](const auto& em, const auto& ep) { return build_two_dim(c, mesh, em, ep, s, bc, is); }, eos_minus,
         eos_plus);

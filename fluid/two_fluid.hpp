@@ -91,6 +91,7 @@ class TwoFluid final : public FluidSolver {
 
     void step(double dt) override {
         treat_interface();
+        phi_before_ = phi_.values();
         try {
             minus_.step(dt);
         } catch (const SolverFailure& f) {
@@ -107,6 +108,33 @@ class TwoFluid final : public FluidSolver {
             phi_.reinitialise(set_.reinit_iterations);
         update_masks();
     }
+
+    // Takes back the last step (used when the fluid of another wet face fails in the same step).
+    void revert_step() {
+        minus_.revert_step();
+        plus_.revert_step();
+        set_level_set(phi_before_);
+        update_masks();
+    }
+
+    // Cells outside `region` (padded-cell flags, see Mesh::index) hold neither fluid: the inside of a
+    // structure (fluid/wet_fluid.hpp). Neither fluid is solved there, and the interface treatment neither
+    // reads nor writes them. Null: the whole domain. Named as Scheme's, whose cells outside the mask hold no
+    // fluid either.
+    void set_active(const std::vector<char>* region) {
+        region_ = region;
+        update_masks();
+    }
+    void active_changed() { update_masks(); }
+    // The two schemes, and the scheme of the fluid in cell (i, j) (for code written for one or two fluids).
+    template <class F> void for_each_scheme(F&& f) {
+        f(minus_);
+        f(plus_);
+    }
+    template <class F> decltype(auto) scheme_at(int i, int j, F&& f) const {
+        return phi_(i, j) < 0 ? f(minus_) : f(plus_);
+    }
+    const std::string& minus_name() const { return names_[0]; }
 
     void project(const std::function<void(double, double, double*)>&) override {
         throw std::logic_error("a two-fluid solver is initialised with initialise(), not project()");
@@ -181,7 +209,11 @@ class TwoFluid final : public FluidSolver {
     LevelSet phi_;
     RiemannMaterial mat_m_, mat_p_;
     std::vector<char> active_m_, active_p_;
-    std::vector<double> wx_, wy_; // extension velocity of the level set
+    std::vector<double> wx_, wy_;    // extension velocity of the level set
+    std::vector<double> phi_before_; // φ at the start of the last step
+    const std::vector<char>* region_ = nullptr;
+
+    bool in_region(int i, int j) const { return !region_ || (*region_)[mesh_.index(i, j)]; }
 
     long at(int i, int j) const { return static_cast<long>(j) * mesh_.nx + i; }
     double h() const { return D == 2 ? std::max(mesh_.dx, mesh_.dy) : mesh_.dx; }
@@ -192,8 +224,9 @@ class TwoFluid final : public FluidSolver {
         for (int j = 0; j < mesh_.ny; ++j)
             for (int i = 0; i < mesh_.nx; ++i) {
                 const double f = phi_(i, j);
-                active_m_[mesh_.index(i, j)] = f < 0 || f <= band;
-                active_p_[mesh_.index(i, j)] = f >= 0 || -f <= band;
+                const bool in = in_region(i, j);
+                active_m_[mesh_.index(i, j)] = in && (f < 0 || f <= band);
+                active_p_[mesh_.index(i, j)] = in && (f >= 0 || -f <= band);
             }
         minus_.active_changed();
         plus_.active_changed();
@@ -215,7 +248,7 @@ class TwoFluid final : public FluidSolver {
                 const Primitive w = scheme.cell_average(i, j);
                 const long k = at(i, j);
                 f.rho[k] = w.rho, f.u[k] = w.u, f.v[k] = w.v, f.p[k] = w.p;
-                f.known[k] = (phi_(i, j) < 0) == minus;
+                f.known[k] = in_region(i, j) && (phi_(i, j) < 0) == minus;
             }
         return f;
     }
@@ -267,18 +300,20 @@ class TwoFluid final : public FluidSolver {
         throw SolverFailure(s.str());
     }
 
-    // Interface cells: real cells with a 4-neighbour of the other fluid.
+    // Interface cells: real cells with a 4-neighbour of the other fluid (within the region).
     std::vector<std::array<int, 2>> interface_cells() const {
         const int nx = mesh_.nx, ny = mesh_.ny;
         std::vector<std::array<int, 2>> cells;
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i < nx; ++i) {
+                if (!in_region(i, j)) continue;
                 const bool neg = phi_(i, j) < 0;
+                auto other = [&](int a, int b) { return in_region(a, b) && (phi_(a, b) < 0) != neg; };
                 bool cut = false;
-                if (i > 0) cut |= (phi_(i - 1, j) < 0) != neg;
-                if (i + 1 < nx) cut |= (phi_(i + 1, j) < 0) != neg;
-                if (D == 2 && j > 0) cut |= (phi_(i, j - 1) < 0) != neg;
-                if (D == 2 && j + 1 < ny) cut |= (phi_(i, j + 1) < 0) != neg;
+                if (i > 0) cut |= other(i - 1, j);
+                if (i + 1 < nx) cut |= other(i + 1, j);
+                if (D == 2 && j > 0) cut |= other(i, j - 1);
+                if (D == 2 && j + 1 < ny) cut |= other(i, j + 1);
                 if (cut) cells.push_back({i, j});
             }
         return cells;
@@ -297,7 +332,7 @@ class TwoFluid final : public FluidSolver {
             for (int i = 0; i < nx; ++i) {
                 const long k = at(i, j);
                 const double f = phi_(i, j);
-                if (std::abs(f) > band) continue;
+                if (std::abs(f) > band || !in_region(i, j)) continue;
                 std::array<double, 2> nrm = phi_.normal(i, j);
                 if (D == 1) nrm = {nrm[0] >= 0 ? 1.0 : -1.0, 0.0};
                 wx_[k] = un[k] * nrm[0];

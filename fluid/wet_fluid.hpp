@@ -21,8 +21,15 @@
 //   has cells that are ghost cells of both faces, each with its own state in its own solution, and each real
 //   cell's fluxes see the ghost state of its own side.
 // - Cells uncovered by the structure were in the band: they hold the ghost state of the last stage.
+// - The fluid of a face is one Scheme, or two fluids with their own level set φ (TwoFluid: a gas bubble in
+//   water). φ_s and φ live together: the face's real cells are the region where either fluid may be, so a
+//   cell inside the structure is never gas nor water; the gas–water interface is treated within the region
+//   only; the structure's ghost band is set in both fluids' schemes, each from its own state at the source
+//   cell, so a bubble that reaches the plate meets it as water does. A structure that crosses the second
+//   fluid when it attaches is refused.
 #pragma once
 #include "fluid/scheme.hpp"
+#include "fluid/two_fluid.hpp"
 #include "fluid/wet_faces.hpp"
 
 #include <cmath>
@@ -34,17 +41,17 @@
 
 namespace undex::fluid {
 
-template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
+// M: the fluid of one face, Scheme<2, K, Eos> or TwoFluid<2, K, EosM, EosP>; `make` builds it with the
+// initial data (once before the structure attaches, and once more per wet face beyond the first).
+template <int K, class M> class WetFluid final : public WetSolver {
   public:
-    using S = Scheme<2, K, Eos>;
-
-    WetFluid(const Mesh& mesh, const Eos& eos, const Settings& s, const std::array<Boundary, 4>& bc,
-             int band_cells = 3)
-        : mesh_(mesh), band_cells_(band_cells), base_(std::make_unique<S>(mesh, eos, s, bc)) {}
+    WetFluid(const Mesh& mesh, std::function<std::unique_ptr<M>()> make, int band_cells = 3)
+        : mesh_(mesh), band_cells_(band_cells), make_(std::move(make)), base_(make_()) {}
 
     // ---- the structure ------------------------------------------------------------------------------
     void attach(const std::vector<int>& face, const std::vector<double>& x, const std::vector<double>& y,
                 const std::vector<double>& normal_x, const std::vector<double>& normal_y) override {
+        if (base_->steps() != 0) throw std::logic_error("WetFluid::attach after a step");
         faces_.emplace(face, x, y, normal_x, normal_y, mesh_.alpha);
         const long n = cells();
         p_I_.assign(faces_->nodes(), 0.0);
@@ -53,7 +60,7 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         nearest_.assign(n, Nearest{});
         for (int f = 0; f < faces_->faces(); ++f) {
             auto side = std::make_unique<Side>();
-            side->scheme = std::make_unique<S>(*base_);
+            side->scheme = f == 0 ? std::move(base_) : make_();
             side->mask.assign(mesh_.padded_cells(), 0);
             side->phi.assign(n, 0.0);
             sides_.push_back(std::move(side));
@@ -63,10 +70,12 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         for (int f = 0; f < faces_->faces(); ++f) {
             Side& sd = *sides_[f];
             sd.scheme->set_active(&sd.mask);
-            sd.scheme->set_stage_ghosts([this, f](double* U) { fill_band(f, U); });
+            sd.scheme->for_each_scheme([this, f](auto& sc) {
+                sc.set_stage_ghosts([this, f, &sc](double* U) { fill_band(f, sc, U); });
+            });
         }
-        base_.reset();
         rebuild(true);
+        refuse_second_fluid_inside();
     }
 
     // On a geometry it cannot hold, the faces, φ and the real cells are those of the last good positions
@@ -105,7 +114,6 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
             // polynomial's variation along the face would feed back through p_I into the ghost band and
             // grow). A probe point on a cell edge takes the mean of the real cells on both sides, so that
             // mirror-image nodes see mirror-image cells.
-            const S& sc = *sides_[f]->scheme;
             double acc[5] = {};
             int used = 0;
             for (const long c : cells_at(px, py)) {
@@ -113,11 +121,14 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
                 const int ci = static_cast<int>(c % mesh_.nx), cj = static_cast<int>(c / mesh_.nx);
                 const double xc = mesh_.xc(ci), yc = mesh_.yc(cj);
                 const double d = (w.x(k) - xc) * n[0] + (w.y(k) - yc) * n[1];
-                const Primitive p = chord_mean(sc, ci, cj, xc + d * n[0], yc + d * n[1], -n[1], n[0]);
-                const double v[5] = {p.p, p.u * n[0] + p.v * n[1], p.rho, sc.eos().sound_speed(p.rho, p.p),
-                                     p.u};
-                for (int q = 0; q < 5; ++q)
-                    acc[q] += v[q];
+                sides_[f]->scheme->scheme_at(ci, cj, [&](const auto& sc) {
+                    const Primitive p =
+                        chord_mean_of(sc, mesh_, ci, cj, xc + d * n[0], yc + d * n[1], -n[1], n[0]);
+                    const double v[5] = {p.p, p.u * n[0] + p.v * n[1], p.rho,
+                                         sc.eos().sound_speed(p.rho, p.p), p.u};
+                    for (int q = 0; q < 5; ++q)
+                        acc[q] += v[q];
+                });
                 ++used;
             }
             out[k] = {acc[0] / used, acc[1] / used, acc[2] / used, acc[3] / used, acc[4] / used};
@@ -170,9 +181,8 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
             }
         }
     }
-    void project(const std::function<void(double, double, double*)>& q) override {
-        if (!sides_.empty()) throw std::logic_error("WetFluid::project after attach");
-        base_->project(q);
+    void project(const std::function<void(double, double, double*)>&) override {
+        throw std::logic_error("a WetFluid takes its initial data from the function that builds its fluid");
     }
     std::vector<double> coefficients() const override {
         if (sides_.empty()) return base_->coefficients();
@@ -205,6 +215,19 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         if (sides_.empty()) return base_->cell_void_fraction(i, j);
         return sides_[owner(at(i, j))]->scheme->cell_void_fraction(i, j);
     }
+    // The second fluid's level set φ (TwoFluid), from the fluid that owns each cell; empty for one fluid.
+    std::vector<double> level_set() const override {
+        if (sides_.empty()) return base_->level_set();
+        std::vector<std::vector<double>> phi;
+        for (const auto& sd : sides_)
+            phi.push_back(sd->scheme->level_set());
+        if (phi[0].empty()) return {};
+        std::vector<double> out(cells());
+        for (long c = 0; c < cells(); ++c)
+            out[c] = phi[owner(c)][c];
+        return out;
+    }
+
     // Mass, momentum and energy of the real cells of every face's fluid.
     std::vector<double> totals() const override {
         if (sides_.empty()) return base_->totals();
@@ -213,23 +236,24 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
             for (int j = 0; j < mesh_.ny; ++j)
                 for (int i = 0; i < mesh_.nx; ++i) {
                     if (!(sd->phi[at(i, j)] < 0)) continue;
-                    const auto w = sd->scheme->cell_average(i, j);
                     double q[4];
-                    euler::to_conserved<2>(sd->scheme->eos(), w, q);
+                    sd->scheme->scheme_at(i, j, [&](const auto& sc) {
+                        euler::to_conserved<2>(sc.eos(), sc.cell_average(i, j), q);
+                    });
                     for (int v = 0; v < 4; ++v)
                         t[v] += q[v] * mesh_.dx * mesh_.dy;
                 }
         return t;
     }
     long troubled_cells() const override {
-        return sum([](const S& s) { return s.troubled_cells(); });
+        return sum([](const M& s) { return s.troubled_cells(); });
     }
     long positivity_scaled_cells() const override {
-        return sum([](const S& s) { return s.positivity_scaled_cells(); });
+        return sum([](const M& s) { return s.positivity_scaled_cells(); });
     }
     double sound_speed(double x, double y) const override {
-        const Primitive w = evaluate(x, y);
-        return first().eos().sound_speed(w.rho, w.p);
+        if (sides_.empty()) return base_->sound_speed(x, y);
+        return sides_[owner(cell_of(x, y))]->scheme->sound_speed(x, y);
     }
     double pressure_floor() const override { return first().pressure_floor(); }
     void set_structure_state(double, double) override {}
@@ -247,7 +271,7 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
         int si, sj;
     };
     struct Side {
-        std::unique_ptr<S> scheme;
+        std::unique_ptr<M> scheme; // the fluid of the face: one scheme or two
         std::vector<char> mask;    // padded cells: real
         std::vector<double> phi;   // interior cells: signed distance to the face (±far() beyond the band)
         std::vector<long> near;    // cells whose distance was computed at the last rebuild
@@ -260,7 +284,8 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
 
     Mesh mesh_;
     int band_cells_;
-    std::unique_ptr<S> base_; // the fluid before the structure attaches (initial data)
+    std::function<std::unique_ptr<M>()> make_;
+    std::unique_ptr<M> base_; // the fluid before the structure attaches (initial data)
     std::optional<WetFaces> faces_;
     std::vector<std::unique_ptr<Side>> sides_;
     std::vector<Nearest> nearest_; // scratch of the rebuild, reset after use
@@ -272,7 +297,7 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
     double h() const { return std::max(mesh_.dx, mesh_.dy); }
     // |φ| beyond the cells whose distance is computed.
     double far() const { return (band_cells_ + 2) * h(); }
-    const S& first() const { return sides_.empty() ? *base_ : *sides_[0]->scheme; }
+    const M& first() const { return sides_.empty() ? *base_ : *sides_[0]->scheme; }
     template <class F> long sum(F&& f) const {
         if (sides_.empty()) return f(*base_);
         long n = 0;
@@ -304,6 +329,7 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
     // The mean of cell (i, j)'s polynomial along the chord through (x, y) (clamped into the cell) in the
     // direction (tx, ty), over the part of the chord inside the cell: three Gauss points, exact for the
     // degrees used.
+    template <class S>
     static Primitive chord_mean_of(const S& sc, const Mesh& m, int i, int j, double x, double y, double tx,
                                    double ty) {
         const double x0 = m.xc(i) - 0.5 * m.dx, x1 = m.xc(i) + 0.5 * m.dx;
@@ -327,9 +353,6 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
             out.rho += w[k] * v.rho, out.u += w[k] * v.u, out.v += w[k] * v.v, out.p += w[k] * v.p;
         }
         return out;
-    }
-    Primitive chord_mean(const S& sc, int i, int j, double x, double y, double tx, double ty) const {
-        return chord_mean_of(sc, mesh_, i, j, x, y, tx, ty);
     }
 
     // The first point along −n from (x, y), in quarter cells up to the band's width, whose cell is real for
@@ -469,9 +492,30 @@ template <int K, EquationOfState Eos> class WetFluid final : public WetSolver {
             if (std::isnan(v)) v = far(); // no face near: a region cut off from the water (none in practice)
     }
 
-    // The ghost band of face f in stage coefficients U (called by the scheme at every stage).
-    void fill_band(int f, double* U) const {
-        const S& sc = *sides_[f]->scheme;
+    // A structure that crosses the second fluid (φ < 0 in a cell of no face's fluid) when it attaches.
+    void refuse_second_fluid_inside() const {
+        if constexpr (requires(const M& m) { m.minus_name(); }) {
+            const std::vector<double> phi = sides_[0]->scheme->level_set();
+            for (int j = 0; j < mesh_.ny; ++j)
+                for (int i = 0; i < mesh_.nx; ++i) {
+                    if (!(phi[at(i, j)] < 0)) continue;
+                    bool fluid = false;
+                    for (const auto& sd : sides_)
+                        fluid |= sd->phi[at(i, j)] < 0;
+                    if (fluid) continue;
+                    std::ostringstream s;
+                    s << "the structure crosses the " << sides_[0]->scheme->minus_name() << " in cell (" << i
+                      << ", " << j << ") at x = " << mesh_.xc(i) << ", y = " << mesh_.yc(j)
+                      << ": a cell inside the structure holds no fluid (move the structure or the "
+                      << sides_[0]->scheme->minus_name() << " region apart)";
+                    fail(s.str());
+                }
+        }
+    }
+
+    // The ghost band of face f in the stage coefficients U of one of its fluid's schemes (called by the
+    // scheme at every stage).
+    template <class S> void fill_band(int f, const S& sc, double* U) const {
         for (const Ghost& g : sides_[f]->ghosts) {
             if (g.si < 0) continue; // no fluid next to it: keeps its last state
             const Primitive s = sc.average_in(U, g.si, g.sj);

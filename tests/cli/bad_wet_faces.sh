@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The fluid's side of bad 2D wet faces (issue 15, item 8), against prescribed-motion plates that send them
 # (tests/coupling/moving_plate.py): a wet node outside the fluid's domain (refused at the handshake: a
-# coupling failure, exit 3) and a wet face with no water next to it (the fluid's sample fails: exit 2);
+# coupling failure, exit 3), a plate across a gas bubble at the start (refused at the handshake: exit 3)
+# and a wet face with no water next to it (the fluid's sample fails: exit 2);
 # and a 2D case with a structure at degree 2 and CFL above 0.15 (refused at --check). Each: both
 # processes stop, the message names what and where, and fluid.h5 stays readable with its status.
 #   usage: bad_wet_faces.sh BIN_DIR PYTHON_DIR SOURCE_DIR
@@ -12,9 +13,9 @@ trap 'rm -rf "$TMP"' EXIT
 passed=0
 failed=0
 
-# run NAME PLATE_ARGS EXIT MESSAGE
+# run NAME PLATE_ARGS EXIT MESSAGE [MORE_CASE_TEXT]
 run() {
-    local name=$1 args=$2 want=$3 message=$4 out="$TMP/$1"
+    local name=$1 args=$2 want=$3 message=$4 more=${5:-} out="$TMP/$1"
     mkdir -p "$out"
     cat > "$out/case.case" <<CASE
 name: "$name"
@@ -22,6 +23,7 @@ geometry: PLANAR_2D
 domain { x_min: -0.5 x_max: 0.5 cells_x: 20 y_min: 0 y_max: 1 cells_y: 20 }
 materials { name: "water" tait { } }
 regions { material: "water" rho: 1000 p: 1e5 }
+$more
 boundaries { x_min { type: WALL } x_max { type: WALL } y_min { type: WALL } y_max { type: WALL } }
 numerics { degree: 1 threads: 1 }
 structure { command: "/usr/bin/python3 $SRC/tests/coupling/moving_plate.py $args --speed 0 --proto-dir $PY" front { type: FLUID } back { type: FLUID } }
@@ -48,6 +50,9 @@ with h5py.File('$out/fluid.h5') as f:
 
 run outside "--faces 1 --nodes 11 --xc 0 --yc 1.2 --length 0.5" 3 "lies outside the fluid domain"
 # Face 0 on the domain's lower edge with the structure above it: no water below it in the domain.
+run crosses-gas "--faces 2 --nodes 21 --xc 0 --yc 0.5 --length 1.0 --thickness 0.1" 3 \
+    "the structure crosses the gas in cell" \
+    'materials { name: "gas" stiffened_gas { gamma: 1.4 } } regions { material: "gas" ball { x: 0 y: 0.45 radius: 0.2 } rho: 10 p: 1e6 }'
 run no-water "--faces 1 --nodes 21 --xc 0 --yc 0 --length 1.0" 2 "has no fluid within 3 cells along its normal"
 
 # Degree 2 at the default CFL 0.2 next to a structure in 2D: refused at --check, naming numerics.cfl.
