@@ -114,24 +114,30 @@ template <int K, class M> class WetFluid final : public WetSolver {
             // polynomial's variation along the face would feed back through p_I into the ghost band and
             // grow). A probe point on a cell edge takes the mean of the real cells on both sides, so that
             // mirror-image nodes see mirror-image cells.
-            double acc[5] = {};
+            // Summed in mirror-symmetric pairs ((c0 + c1) + (c2 + c3), absent cells adding 0), so that
+            // mirror-image nodes get bitwise mirror-image samples.
+            double v[4][5] = {};
             int used = 0;
-            for (const long c : cells_at(px, py)) {
-                if (!(sides_[f]->phi[c] < 0)) continue;
+            const std::array<long, 4> cells = cells_at(px, py);
+            for (int m = 0; m < 4; ++m) {
+                const long c = cells[m];
+                if (c < 0 || !(sides_[f]->phi[c] < 0)) continue;
                 const int ci = static_cast<int>(c % mesh_.nx), cj = static_cast<int>(c / mesh_.nx);
                 const double xc = mesh_.xc(ci), yc = mesh_.yc(cj);
                 const double d = (w.x(k) - xc) * n[0] + (w.y(k) - yc) * n[1];
                 sides_[f]->scheme->scheme_at(ci, cj, [&](const auto& sc) {
                     const Primitive p =
                         chord_mean_of(sc, mesh_, ci, cj, xc + d * n[0], yc + d * n[1], -n[1], n[0]);
-                    const double v[5] = {p.p, p.u * n[0] + p.v * n[1], p.rho,
+                    const double q[5] = {p.p, p.u * n[0] + p.v * n[1], p.rho,
                                          sc.eos().sound_speed(p.rho, p.p), p.u};
-                    for (int q = 0; q < 5; ++q)
-                        acc[q] += v[q];
+                    std::copy_n(q, 5, v[m]);
                 });
                 ++used;
             }
-            out[k] = {acc[0] / used, acc[1] / used, acc[2] / used, acc[3] / used, acc[4] / used};
+            double acc[5];
+            for (int q = 0; q < 5; ++q)
+                acc[q] = ((v[0][q] + v[1][q]) + (v[2][q] + v[3][q])) / used;
+            out[k] = {acc[0], acc[1], acc[2], acc[3], acc[4]};
         }
         return out;
     }
@@ -344,15 +350,13 @@ template <int K, class M> class WetFluid final : public WetSolver {
         clip(x, tx, x0, x1);
         clip(y, ty, y0, y1);
         if (!(s1 > s0)) return sc.evaluate_in(i, j, x, y);
-        const double mid = 0.5 * (s0 + s1), half = 0.5 * (s1 - s0), g = std::sqrt(0.6);
-        const double w[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18}, q[3] = {-g, 0.0, g};
-        Primitive out{};
-        for (int k = 0; k < 3; ++k) {
-            const double sk = mid + q[k] * half;
-            const Primitive v = sc.evaluate_in(i, j, x + sk * tx, y + sk * ty);
-            out.rho += w[k] * v.rho, out.u += w[k] * v.u, out.v += w[k] * v.v, out.p += w[k] * v.p;
-        }
-        return out;
+        const double mid = 0.5 * (s0 + s1), half = 0.5 * (s1 - s0), g = std::sqrt(0.6) * half;
+        const Primitive a = sc.evaluate_in(i, j, x + (mid - g) * tx, y + (mid - g) * ty);
+        const Primitive b = sc.evaluate_in(i, j, x + mid * tx, y + mid * ty);
+        const Primitive c = sc.evaluate_in(i, j, x + (mid + g) * tx, y + (mid + g) * ty);
+        // The outer points summed first: the mean is the same bitwise whichever way the chord runs.
+        auto mean = [](double l, double m, double r) { return 5.0 / 18 * (l + r) + 8.0 / 18 * m; };
+        return {mean(a.rho, b.rho, c.rho), mean(a.u, b.u, c.u), mean(a.v, b.v, c.v), mean(a.p, b.p, c.p)};
     }
 
     // The first point along −n from (x, y), in quarter cells up to the band's width, whose cell is real for
@@ -367,17 +371,20 @@ template <int K, class M> class WetFluid final : public WetSolver {
         return false;
     }
     // The cell containing (x, y), and its neighbour across an edge that (x, y) lies on (up to four cells).
-    std::vector<long> cells_at(double x, double y) const {
+    // Order: (i, j), (i − 1, j), (i, j − 1), (i − 1, j − 1); −1 for a cell that is not there. "On an edge" is
+    // within 1e-9 cells of it: the structure's node coordinates and the fluid's cell edges are computed
+    // differently (x0 + span·i/n against x_min + i·Δx), and a node and its mirror image must both be on it.
+    std::array<long, 4> cells_at(double x, double y) const {
         const double fx = (x - mesh_.x_min) / mesh_.dx, fy = (y - mesh_.y_min) / mesh_.dy;
-        const int fi = static_cast<int>(std::floor(fx)), fj = static_cast<int>(std::floor(fy));
-        const int i = std::clamp(fi, 0, mesh_.nx - 1), j = std::clamp(fj, 0, mesh_.ny - 1);
+        const double rx = std::round(fx), ry = std::round(fy);
         // On an edge between two cells of the domain (not on the domain's own edge).
-        const bool ex = fx == fi && fi > 0 && fi < mesh_.nx, ey = fy == fj && fj > 0 && fj < mesh_.ny;
-        std::vector<long> c = {at(i, j)};
-        if (ex) c.push_back(at(i - 1, j));
-        if (ey) c.push_back(at(i, j - 1));
-        if (ex && ey) c.push_back(at(i - 1, j - 1));
-        return c;
+        const bool ex = std::abs(fx - rx) < 1e-9 && rx > 0 && rx < mesh_.nx;
+        const bool ey = std::abs(fy - ry) < 1e-9 && ry > 0 && ry < mesh_.ny;
+        const int i =
+            ex ? static_cast<int>(rx) : std::clamp(static_cast<int>(std::floor(fx)), 0, mesh_.nx - 1);
+        const int j =
+            ey ? static_cast<int>(ry) : std::clamp(static_cast<int>(std::floor(fy)), 0, mesh_.ny - 1);
+        return {at(i, j), ex ? at(i - 1, j) : -1, ey ? at(i, j - 1) : -1, ex && ey ? at(i - 1, j - 1) : -1};
     }
     bool first_real(int f, double x, double y, double nx, double ny, int& ci, int& cj) const {
         double px, py;

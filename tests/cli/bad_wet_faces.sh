@@ -2,7 +2,8 @@
 # The fluid's side of bad 2D wet faces (issue 15, item 8), against prescribed-motion plates that send them
 # (tests/coupling/moving_plate.py): a wet node outside the fluid's domain (refused at the handshake: a
 # coupling failure, exit 3), a plate across a gas bubble at the start (refused at the handshake: exit 3)
-# and a wet face with no water next to it (the fluid's sample fails: exit 2);
+# and a wet face with no water next to it (the fluid's sample fails: exit 2); case 4.5 (coarse) under a
+# 300 MPa wave, which turns a core element inside out (the structure fails: exit 2, the fluid 3);
 # and a 2D case with a structure at degree 2 and CFL above 0.15 (refused at --check). Each: both
 # processes stop, the message names what and where, and fluid.h5 stays readable with its status.
 #   usage: bad_wet_faces.sh BIN_DIR PYTHON_DIR SOURCE_DIR
@@ -54,6 +55,27 @@ run crosses-gas "--faces 2 --nodes 21 --xc 0 --yc 0.5 --length 1.0 --thickness 0
     "the structure crosses the gas in cell" \
     'materials { name: "gas" stiffened_gas { gamma: 1.4 } } regions { material: "gas" ball { x: 0 y: 0.45 radius: 0.2 } rho: 10 p: 1e6 }'
 run no-water "--faces 1 --nodes 21 --xc 0 --yc 0 --length 1.0" 2 "has no fluid within 3 cells along its normal"
+
+# An element turned inside out by the load: case 4.5 at 0.04 m under 300 MPa in place of 2 MPa. Both
+# processes stop, both logs name the element, both outputs are readable with a failed status.
+out="$TMP/inverted"
+"$BIN/undex" run "$SRC/cases/sandwich_plate_water_backed_2d.case" --set domain.cells_x=50 --set domain.cells_y=58 \
+    --set boundaries.y_min.pressure.p_peak=3e8 --set end_time=1.5e-3 --set output.directory="$out" > "$TMP/inverted.log" 2>&1
+rc=$? problems=""
+[ $rc -ne 0 ] || problems+=" the run succeeded;"
+grep -q "solid ended with exit code 2" "$TMP/inverted.log" || problems+=" no 'solid ended with exit code 2';"
+grep -q "fluid ended with exit code 3" "$TMP/inverted.log" || problems+=" no 'fluid ended with exit code 3';"
+for side in fluid solid; do
+    grep -q "element [0-9]* (layer [0-9], centre x = .*) inverted at t = " "$out/$side.log" ||
+        problems+=" $side.log does not name the element;"
+    /usr/bin/python3 -c "
+import h5py, sys
+with h5py.File('$out/$side.h5') as f:
+    sys.exit(0 if f['status'][()].decode().startswith('failed') and len(f['fields']) > 1 else 1)" 2> /dev/null ||
+        problems+=" $side.h5 not readable with a failed status and its outputs;"
+done
+if [ -z "$problems" ]; then echo "ok: inverted: $(grep -m1 'error' "$out/solid.log")"; passed=$((passed + 1));
+else echo "FAIL: inverted:$problems"; cat "$TMP/inverted.log"; failed=$((failed + 1)); fi
 
 # Degree 2 at the default CFL 0.2 next to a structure in 2D: refused at --check, naming numerics.cfl.
 sed -e 's/numerics { degree: 1 threads: 1 }/numerics { degree: 2 }/' "$TMP/outside/case.case" > "$TMP/p2.case"
