@@ -109,7 +109,8 @@ class TwoFluid final : public FluidSolver {
         update_masks();
     }
 
-    // Takes back the last step (used when the fluid of another wet face fails in the same step).
+    // Takes back the last step (used when the fluid of another wet face fails in the same step): the state
+    // after the step's interface treatment, which the real GFM had already redefined next to the interface.
     void revert_step() {
         minus_.revert_step();
         plus_.revert_step();

@@ -51,7 +51,7 @@ template <int K, class M> class WetFluid final : public WetSolver {
     // ---- the structure ------------------------------------------------------------------------------
     void attach(const std::vector<int>& face, const std::vector<double>& x, const std::vector<double>& y,
                 const std::vector<double>& normal_x, const std::vector<double>& normal_y) override {
-        if (base_->steps() != 0) throw std::logic_error("WetFluid::attach after a step");
+        if (!base_ || base_->steps() != 0) throw std::logic_error("WetFluid::attach twice or after a step");
         faces_.emplace(face, x, y, normal_x, normal_y, mesh_.alpha);
         const long n = cells();
         p_I_.assign(faces_->nodes(), 0.0);
@@ -76,6 +76,7 @@ template <int K, class M> class WetFluid final : public WetSolver {
         }
         rebuild(true);
         refuse_second_fluid_inside();
+        keep_own_second_fluid();
     }
 
     // On a geometry it cannot hold, the faces, φ and the real cells are those of the last good positions
@@ -234,6 +235,14 @@ template <int K, class M> class WetFluid final : public WetSolver {
         return out;
     }
 
+    void set_level_set(const std::vector<double>& phi) override {
+        if (sides_.empty()) return base_->set_level_set(phi);
+        for (auto& sd : sides_) {
+            sd->scheme->set_level_set(phi);
+            sd->scheme->active_changed();
+        }
+    }
+
     // Mass, momentum and energy of the real cells of every face's fluid.
     std::vector<double> totals() const override {
         if (sides_.empty()) return base_->totals();
@@ -366,7 +375,8 @@ template <int K, class M> class WetFluid final : public WetSolver {
         for (int m = 0; m <= 4 * band_cells_; ++m) {
             const double d = 0.25 * m * h();
             px = x - d * nx, py = y - d * ny;
-            if (sd.phi[cell_of(px, py)] < 0) return true;
+            for (const long c : cells_at(px, py)) // all cells of an edge: mirror-image nodes alike
+                if (c >= 0 && sd.phi[c] < 0) return true;
         }
         return false;
     }
@@ -517,6 +527,23 @@ template <int K, class M> class WetFluid final : public WetSolver {
                       << sides_[0]->scheme->minus_name() << " region apart)";
                     fail(s.str());
                 }
+        }
+    }
+
+    // Each face's fluid is built from the whole case: its φ also marks the second fluid on the other faces'
+    // sides. There it is set to the first fluid (φ = +far), so that a face's fluid holds only its own side's
+    // bubble (no gas scheme active next to a thin plate for the other side's gas).
+    void keep_own_second_fluid() {
+        if constexpr (requires(const M& m) { m.minus_name(); }) {
+            if (sides_.size() < 2) return;
+            for (size_t f = 0; f < sides_.size(); ++f) {
+                std::vector<double> phi = sides_[f]->scheme->level_set();
+                for (long c = 0; c < cells(); ++c)
+                    for (size_t g = 0; g < sides_.size(); ++g)
+                        if (g != f && sides_[g]->phi[c] < 0) phi[c] = std::max(phi[c], far());
+                sides_[f]->scheme->set_level_set(phi);
+                sides_[f]->scheme->active_changed();
+            }
         }
     }
 
