@@ -422,6 +422,16 @@ class Plate2D : public Structure {
                                 {"v_y", Field::Centre::Node, 1, vy_, {}},
                                 {"a_x", Field::Centre::Node, 1, ax_, {}},
                                 {"a_y", Field::Centre::Node, 1, ay_, {}}};
+        // The same as vectors of three components (z = 0), which ParaView's Warp By Vector takes.
+        auto vector_field = [&](const char* name, const std::vector<double>& x,
+                                const std::vector<double>& y) {
+            Field v{name, Field::Centre::Node, 3, std::vector<double>(3 * n, 0.0), {}};
+            for (size_t i = 0; i < n; ++i)
+                v.values[3 * i] = x[i], v.values[3 * i + 1] = y[i];
+            f.push_back(std::move(v));
+        };
+        vector_field("displacement", ux_, uy_);
+        vector_field("velocity", vx_, vy_);
         auto element_field = [&](const char* name, auto pick) {
             Field e{name, Field::Centre::Element, 1, {}, {}};
             for (size_t k = 0; k < quads_.size(); ++k)

@@ -124,7 +124,8 @@ class StructureOutput {
             h5::write_dataset(loc, f.name.c_str(), dims, f.integers.data());
     }
     // solid.xmf: the snapshots of a 2D model as a temporal collection of quadrilateral grids on the current
-    // positions, for ParaView; every node and element field is an attribute.
+    // positions, for ParaView; every node and element field is an attribute (fields of three columns as
+    // vectors).
     void write_xdmf(const std::vector<Field>& fields) const {
         const size_t n = s_.nodes(), ne = s_.element_count();
         std::ostringstream x;
@@ -145,11 +146,11 @@ class StructureOutput {
             item("/" + s.group + "/position", std::to_string(n) + " 2");
             x << "</Geometry>\n";
             for (const Field& f : fields) {
-                if (f.columns != 1) continue; // the position is the geometry
-                const bool node = f.centre == Field::Centre::Node;
-                x << "<Attribute Name=\"" << f.name << "\" AttributeType=\"Scalar\" Center=\""
-                  << (node ? "Node" : "Cell") << "\">\n";
-                item("/" + s.group + "/" + f.name, std::to_string(node ? n : ne));
+                if (f.columns != 1 && f.columns != 3) continue; // the position is the geometry
+                const bool node = f.centre == Field::Centre::Node, vector = f.columns == 3;
+                x << "<Attribute Name=\"" << f.name << "\" AttributeType=\"" << (vector ? "Vector" : "Scalar")
+                  << "\" Center=\"" << (node ? "Node" : "Cell") << "\">\n";
+                item("/" + s.group + "/" + f.name, std::to_string(node ? n : ne) + (vector ? " 3" : ""));
                 x << "</Attribute>\n";
             }
             x << "<Attribute Name=\"layer\" AttributeType=\"Scalar\" Center=\"Cell\">\n";

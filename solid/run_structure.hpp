@@ -19,7 +19,8 @@ namespace undex::solid {
 //   2D: nodes (n × 2 reference x, y), quads (elements × 4 node numbers, counter-clockwise), layer (per
 //       element)
 //       /fields/NNNNNN  attributes time, step, last_good; node fields position (n × 2, current), u_x, u_y,
-//                       v_x, v_y, a_x, a_y; element fields stress_xx, stress_yy, stress_zz (hoop in
+//                       v_x, v_y, a_x, a_y, displacement and velocity (n × 3: x, y and 0, vectors in
+//                       solid.xmf for ParaView's Warp By Vector); element fields stress_xx, stress_yy, stress_zz (hoop in
 //                       axisymmetry), stress_xy, von_mises, peeq, peeq_rate, hourglass_energy
 //   /energies       t, kinetic, elastic, plastic, hourglass, external, balance_error (per unit area in 1D,
 //                   per unit depth in plane strain, per radian in axisymmetry; every output.gauge_every

@@ -151,9 +151,24 @@ ok = (f["status"][()] == b"complete"
 items = [i.text.split(":", 1)[1] for i in ET.parse(d + "/solid.xmf").iter("DataItem")]
 grids = list(ET.parse(d + "/solid.xmf").iter("Grid"))
 ok = ok and len(grids) == len(f["fields"]) + 1 and all(i in f for i in items)
+# Displacement and velocity as vectors of three components (ParaView's Warp By Vector): the attribute's type
+# and dimensions, and its values (x, y, 0) against the scalar fields, in every snapshot.
+n = f["nodes"].shape[0]
+for g in grids[1:]:
+    for name, (cx, cy) in (("displacement", ("u_x", "u_y")), ("velocity", ("v_x", "v_y"))):
+        a = [t for t in g.iter("Attribute") if t.get("Name") == name]
+        ok = ok and len(a) == 1 and a[0].get("AttributeType") == "Vector" and a[0].get("Center") == "Node"
+        item = a[0].find("DataItem") if a else None
+        ok = ok and item is not None and item.get("Dimensions") == f"{n} 3"
+        if ok:
+            v = f[item.text.split(":", 1)[1]][...]
+            group = item.text.split(":", 1)[1].rsplit("/", 1)[0]
+            ok = (v.shape == (n, 3) and (v[:, 0] == f[group + "/" + cx][...]).all()
+                  and (v[:, 1] == f[group + "/" + cy][...]).all() and (v[:, 2] == 0).all())
+ok = ok and abs(f[grids[-1].find("Attribute[@Name='displacement']/DataItem").text.split(":", 1)[1]][:, 1]).max() > 0
 sys.exit(0 if ok else 1)
 PY
-then echo "ok: a plate runs alone, closes its energy balance and writes XDMF"; passed=$((passed + 1))
+then echo "ok: a plate runs alone, closes its energy balance and writes XDMF (displacement, velocity as vectors)"; passed=$((passed + 1))
 else echo "FAIL: plate run: exit $rc $(cat "$TMP/err") $(tail -n 2 "$TMP/run.log")"; failed=$((failed + 1)); fi
 "$UNDEX" gauges "$TMP/out-plate" --name P2 > "$TMP/g.csv" 2> "$TMP/err"
 if [ "$(head -n 1 "$TMP/g.csv")" = "t,u_x,u_y,v_x,v_y,a_x,a_y,stress_xx,stress_yy,stress_zz,stress_xy,peeq" ] &&
