@@ -399,9 +399,12 @@ template <int K, class M> class WetFluid final : public WetSolver {
     bool first_real(int f, double x, double y, double nx, double ny, int& ci, int& cj) const {
         double px, py;
         if (!probe(f, x, y, nx, ny, px, py)) return false;
-        const long c = cell_of(px, py);
-        ci = static_cast<int>(c % mesh_.nx), cj = static_cast<int>(c / mesh_.nx);
-        return true;
+        for (const long c : cells_at(px, py)) // the first real cell of those at the probe point
+            if (c >= 0 && sides_[f]->phi[c] < 0) {
+                ci = static_cast<int>(c % mesh_.nx), cj = static_cast<int>(c / mesh_.nx);
+                return true;
+            }
+        return false;
     }
 
     // φ of every face near its segments, the real cells and the ghost bands, from the current positions.
