@@ -39,7 +39,6 @@ two-fluid-structure-ghosts-water-only) touching's fields differ by 6.6e-2.
     gas_limit_1d.py BIN_DIR WORK_DIR
 """
 import os
-import subprocess
 import sys
 
 import h5py
@@ -47,7 +46,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "support"))
-from checks import check, finish  # noqa: E402
+from checks import check, finish, run_case, wet_face_histories as histories  # noqa: E402
 
 BIN, WORK = sys.argv[1:3]
 BOUND = 0.005
@@ -87,28 +86,7 @@ structure {{ rigid_plate {{ mass_per_area: {M!r} back_pressure: 1e5 }}
 
 def run(name, top, dim, geometry="PLANAR_2D"):
     out = os.path.join(WORK, f"{name}_{dim}d")
-    os.makedirs(out, exist_ok=True)
-    path = os.path.join(out, "case.case")
-    with open(path, "w") as f:
-        f.write(case(top, dim, out, geometry))
-    r = subprocess.run([os.path.join(BIN, "undex"), "run", path, "--force"], capture_output=True, text=True)
-    if r.returncode != 0:
-        raise SystemExit(f"FAIL: {name} {dim}D: run failed ({r.returncode})\n{r.stdout[-3000:]}{r.stderr[-2000:]}")
-    return out
-
-
-def histories(out, dim):
-    if dim == 1:
-        with h5py.File(os.path.join(out, "fluid.h5")) as f:
-            i = f["interface"]
-            return i["t"][:], i["u_I"][:], i["p_I"][:]
-    with h5py.File(os.path.join(out, "solid.h5")) as f:
-        c = f["coupling"]
-        t, u, p = c["t"][:], c["u_I"][:], c["p_I"][:]
-    steps = np.unique(t)
-    per = len(t) // len(steps)  # rows per step: one per wet node
-    mid = per // 2
-    return t[mid::per], u[mid::per], p[mid::per]
+    return run_case(BIN, out, case(top, dim, out, geometry), f"{name} {dim}D")
 
 
 def field_difference(out1, out2):

@@ -26,11 +26,12 @@ the differences reach 0.6 to 2.3 %). Measured (u, p): ψ 0.5 rigid 1.0e-5, 2.9e-
     limit_1d.py BIN_DIR CASES_DIR WORK_DIR
 """
 import os
-import subprocess
 import sys
 
-import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from checks import run_case, wet_face_histories as histories  # noqa: E402
 
 BIN, CASES, WORK = sys.argv[1:4]
 Z, THETA = 1000.0 * 1538.4, 1e-4
@@ -77,28 +78,7 @@ def case(kind, m, dim, end, out):
 
 def run(kind, m, dim, end):
     out = os.path.join(WORK, f"{kind}_{m:.4g}_{dim}d")
-    os.makedirs(out, exist_ok=True)
-    path = os.path.join(out, "case.case")
-    with open(path, "w") as f:
-        f.write(case(kind, m, dim, end, out))
-    r = subprocess.run([os.path.join(BIN, "undex"), "run", path], capture_output=True, text=True)
-    if r.returncode != 0:
-        raise SystemExit(f"FAIL: {kind} {dim}D m = {m}: run failed ({r.returncode})\n{r.stdout[-3000:]}{r.stderr[-2000:]}")
-    return out
-
-
-def histories(out, dim):
-    if dim == 1:
-        with h5py.File(os.path.join(out, "fluid.h5")) as f:
-            i = f["interface"]
-            return i["t"][:], i["u_I"][:], i["p_I"][:]
-    with h5py.File(os.path.join(out, "solid.h5")) as f:
-        c = f["coupling"]
-        t, u, p = c["t"][:], c["u_I"][:], c["p_I"][:]
-    steps = np.unique(t)
-    per = len(t) // len(steps)  # rows per step: one per wet node
-    mid = per // 2
-    return t[mid::per], u[mid::per], p[mid::per]
+    return run_case(BIN, out, case(kind, m, dim, end, out), f"{kind} {dim}D m = {m}")
 
 
 failed = False

@@ -1,6 +1,8 @@
 """What the Python tests over real processes share: the tally of their checks, the status of an output file,
-and the time-step rule and output times of a coupled run from both sides' records (coupled_steps)."""
+and the time-step rule and output times of a coupled run from both sides' records (coupled_steps), a case
+run from its text (run_case), and the wet face's histories of a 1D or 2D coupled run (wet_face_histories)."""
 import os
+import subprocess
 import sys
 
 import h5py
@@ -130,3 +132,33 @@ def coupled_steps(out_dir, structure, end_time, requested, complete=True):
         if len(written) != len(req) or np.max(np.abs(np.array(written) - req)) > tol:
             problems.append(f"{os.path.basename(path)}: outputs at {written} s, requested {list(req)} s")
     return problems, summary
+
+
+def run_case(bin_dir, out, text, label):
+    """Writes case text `text` to OUT/case.case and runs it with `undex run --force`; exits with the run's
+    output on a failure. Returns OUT."""
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, "case.case")
+    with open(path, "w") as f:
+        f.write(text)
+    r = subprocess.run([os.path.join(bin_dir, "undex"), "run", path, "--force"], capture_output=True, text=True)
+    if r.returncode != 0:
+        raise SystemExit(f"FAIL: {label}: run failed ({r.returncode})\n{r.stdout[-3000:]}{r.stderr[-2000:]}")
+    return out
+
+
+def wet_face_histories(out, dim):
+    """t, u_I, p_I of a coupled run's wet face: in 1D the fluid's /interface record, in 2D the structure's
+    /coupling record of its centre wet node."""
+    import numpy as np
+
+    if dim == 1:
+        with h5py.File(os.path.join(out, "fluid.h5")) as f:
+            i = f["interface"]
+            return i["t"][:], i["u_I"][:], i["p_I"][:]
+    with h5py.File(os.path.join(out, "solid.h5")) as f:
+        c = f["coupling"]
+        t, u, p = c["t"][:], c["u_I"][:], c["p_I"][:]
+    per = len(t) // len(np.unique(t))  # rows per step: one per wet node
+    mid = per // 2
+    return t[mid::per], u[mid::per], p[mid::per]
