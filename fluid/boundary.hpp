@@ -141,6 +141,7 @@ void fill_ghosts(const Mesh& m, double* U, const std::array<Boundary, 4>& bc, co
             const double* in = U + static_cast<long>(m.index(ii, ij)) * NC;
             switch (bc[side].type) {
             case BoundaryType::Transmissive:
+            case BoundaryType::Absorbing: // the layer's outer side
                 detail::mirror<D, K>(in, g, dir, false);
                 break;
             case BoundaryType::Wall:

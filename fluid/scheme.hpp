@@ -106,6 +106,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 }
             }
         limit(u_, 0.0, "initial data");
+        capture_layers();
     }
 
     double stable_dt() const override {
@@ -124,7 +125,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 if (D == 2) r = std::max(r, (std::abs(w.v) + a) / mesh_.dy);
                 inv = std::max(inv, r);
             }
-        return set_.cfl / inv;
+        return std::min(set_.cfl / inv, 1.0 / sigma_max_); // σΔt ≤ 1 in the absorbing layers
     }
 
     void step(double dt) override {
@@ -314,6 +315,58 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     std::vector<int> lo_, hi_; // per row: the active cells lie in [lo, hi)
     std::function<void(double*)> stage_ghosts_;
 
+    // Absorbing layers (BoundaryType::Absorbing): per layer cell, its padded index, relaxation rate σ and
+    // reference coefficients (the initial data).
+    std::vector<long> layer_cell_;
+    std::vector<double> layer_sigma_, layer_ref_;
+    double sigma_max_ = 0.0;
+
+    // σ of every cell inside a layer, summed over the sides (corners take both), from the initial data.
+    void capture_layers() {
+        layer_cell_.clear(), layer_sigma_.clear(), layer_ref_.clear();
+        sigma_max_ = 0.0;
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i) {
+                double shape = 0.0; // Σ strength (d/L)² / L over the sides whose layer holds the cell
+                for (int side = 0; side < 2 * D; ++side) {
+                    const Boundary& b = bc_[side];
+                    if (b.type != BoundaryType::Absorbing || b.layer_cells <= 0) continue;
+                    const int n = side / 2 == 0 ? mesh_.nx : mesh_.ny, k = side / 2 == 0 ? i : j;
+                    const double depth = side % 2 ? k + 0.5 - (n - b.layer_cells) : b.layer_cells - k - 0.5;
+                    if (depth <= 0) continue;
+                    const double L = b.layer_cells * (side / 2 == 0 ? mesh_.dx : mesh_.dy);
+                    const double r = depth / b.layer_cells;
+                    shape += b.strength * r * r / L;
+                }
+                if (shape == 0.0) continue;
+                const double* c = cell(u_.data(), i, j);
+                double q[NV];
+                for (int v = 0; v < NV; ++v)
+                    q[v] = c[v * NB];
+                const Primitive w = primitive(q);
+                const double sigma = shape * eos_.sound_speed(w.rho, w.p);
+                layer_cell_.push_back(mesh_.index(i, j));
+                layer_sigma_.push_back(sigma);
+                layer_ref_.insert(layer_ref_.end(), c, c + NC);
+                sigma_max_ = std::max(sigma_max_, sigma);
+            }
+    }
+
+    // dU/dt += −σ (U − U_ref) in the layers' active cells.
+    void relax_layers(const double* U) {
+        const long n = static_cast<long>(layer_cell_.size());
+#pragma omp parallel for schedule(static) if (D == 2)
+        for (long k = 0; k < n; ++k) {
+            const long c = layer_cell_[k];
+            if (active_ && !(*active_)[c]) continue;
+            const double* u = U + c * NC;
+            const double* ref = layer_ref_.data() + k * NC;
+            double* r = rhs_.data() + c * NC;
+            for (int m = 0; m < NC; ++m)
+                r[m] -= layer_sigma_[k] * (u[m] - ref[m]);
+        }
+    }
+
     bool active(int i, int j) const {
         return !active_ || (*active_)[mesh_.index(i, j)];
     }
@@ -479,6 +532,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                     for (int l = 0; l < NB; ++l)
                         r[v * NB + l] = acc[v][l] * tab_.inv_norm[l];
             }
+        if (!layer_cell_.empty()) relax_layers(U);
     }
 
     // Indicator + limiter + positivity on Uvec; throws SolverFailure for a cell that cannot be made

@@ -190,6 +190,19 @@ void validate_boundary(const CaseFile& cf, const cfg::Boundary& b, const std::st
     } else if (b.has_pressure()) {
         cf.fail(path + ".pressure", "a pressure history is only used by PRESSURE and INCIDENT boundaries");
     }
+    if (b.type() == cfg::Boundary::ABSORBING) {
+        const auto& d = cf.get().domain();
+        const bool x = path.find(".x_") != std::string::npos;
+        const double cell = x ? (d.x_max() - d.x_min()) / d.cells_x() : (d.y_max() - d.y_min()) / d.cells_y();
+        if (!b.has_layer()) cf.fail(path, "an ABSORBING boundary needs 'layer', its thickness (m)");
+        if (!(b.layer() >= 2 * cell * (1 - 1e-9))) {
+            std::ostringstream m;
+            m << "the layer (" << b.layer() << " m) must be at least 2 cells (" << 2 * cell << " m)";
+            cf.fail(path + ".layer", m.str());
+        }
+    } else if (b.has_layer() || b.has_strength()) {
+        cf.fail(path + (b.has_layer() ? ".layer" : ".strength"), "only an ABSORBING boundary has a layer");
+    }
     if (b.type() == cfg::Boundary::INCIDENT) {
         // The incident wave's sound speeds are read on the isentrope of the water it enters (regions[0]'s
         // material): every pressure of the history must be one that material can hold.
@@ -505,10 +518,19 @@ Boundary boundary(const cfg::Boundary& b) {
         out.pressure = pressure_history(b.pressure());
         out.p_ambient = b.pressure().table_p_size() > 0 ? b.pressure().table_p(0) : b.pressure().p_ambient();
         break;
+    case cfg::Boundary::ABSORBING:
+        out.type = BoundaryType::Absorbing;
+        out.strength = b.strength();
+        break;
     default:
         out.type = BoundaryType::Transmissive;
     }
     return out;
+}
+
+// Cells of a side's absorbing layer of `cell` metres per cell (0 for other boundaries).
+int layer_cells(const cfg::Boundary& b, double cell) {
+    return b.type() == cfg::Boundary::ABSORBING ? static_cast<int>(std::lround(b.layer() / cell)) : 0;
 }
 
 template <int D, int K, class Eos>
@@ -694,6 +716,20 @@ std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
     if (mesh.dim == 2) {
         bc[2] = boundary(c.boundaries().y_min());
         bc[3] = boundary(c.boundaries().y_max());
+    }
+    // Absorbing layers: the mesh grows beyond the domain by whole cells.
+    const auto& cb = c.boundaries();
+    bc[0].layer_cells = layer_cells(cb.x_min(), mesh.dx);
+    bc[1].layer_cells = layer_cells(cb.x_max(), mesh.dx);
+    mesh.nx += bc[0].layer_cells + bc[1].layer_cells;
+    mesh.x_min -= bc[0].layer_cells * mesh.dx;
+    mesh.x_max += bc[1].layer_cells * mesh.dx;
+    if (mesh.dim == 2) {
+        bc[2].layer_cells = layer_cells(cb.y_min(), mesh.dy);
+        bc[3].layer_cells = layer_cells(cb.y_max(), mesh.dy);
+        mesh.ny += bc[2].layer_cells + bc[3].layer_cells;
+        mesh.y_min -= bc[2].layer_cells * mesh.dy;
+        mesh.y_max += bc[3].layer_cells * mesh.dy;
     }
     const auto eos_plus = eos_of(c.materials(material_index(c, c.regions(0).material())), &c);
     const cfg::Region* other = nullptr;

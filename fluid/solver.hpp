@@ -17,13 +17,15 @@ struct SolverFailure : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-enum class BoundaryType { Transmissive, Wall, Symmetry, Pressure, Periodic, Structure, Incident };
+enum class BoundaryType { Transmissive, Wall, Symmetry, Pressure, Periodic, Structure, Incident, Absorbing };
 
 struct Boundary {
     BoundaryType type = BoundaryType::Transmissive;
     std::function<double(double)> pressure; // p(t) for BoundaryType::Pressure and the incident p_inc(t)
     double p_ambient = 0;                   // BoundaryType::Incident: the still water's pressure outside
     double p_I = 0, u_I = 0;                // the structure's interface pressure and normal velocity
+    int layer_cells = 0;                    // BoundaryType::Absorbing: the layer's cells (part of the mesh)
+    double strength = 0;                    // BoundaryType::Absorbing: σ_max · layer / a
 };
 
 enum class Indicator { Tvb, All, None };

@@ -167,6 +167,15 @@ bad_case incident-without-history 's/x_min { type: TRANSMISSIVE }/x_min { type: 
 bad_case incident-below-floor "$INCIDENT; s/p_peak: 0.5/p_peak: -2/" 9 'boundaries.x_min.pressure.p_peak' run
 bad_case history-on-a-wall 's/x_min { type: TRANSMISSIVE }/x_min { type: WALL pressure { p_ambient: 1 } }/' 9 \
     'boundaries.x_min.pressure: a pressure history is only used by PRESSURE and INCIDENT boundaries'
+# An ABSORBING side needs its layer, of at least 2 cells (Δx = 0.05 m here); no other side has one.
+make_case absorbing 's/x_max { type: TRANSMISSIVE }/x_max { type: ABSORBING layer: 0.2 }/'
+expect_ok "check valid ABSORBING side" "$UNDEX" check "$TMP/absorbing.case"
+bad_case absorbing-without-layer 's/x_max { type: TRANSMISSIVE }/x_max { type: ABSORBING }/' 10 \
+    "boundaries.x_max: an ABSORBING boundary needs 'layer'" run
+bad_case absorbing-thin 's/x_max { type: TRANSMISSIVE }/x_max { type: ABSORBING layer: 0.07 }/' 10 \
+    'boundaries.x_max.layer: the layer (0.07 m) must be at least 2 cells (0.1 m)' run
+bad_case layer-on-a-wall 's/x_min { type: TRANSMISSIVE }/x_min { type: WALL strength: 2 }/' 9 \
+    'boundaries.x_min.strength: only an ABSORBING boundary has a layer'
 
 # Two materials (gas in the box): the interface fields are checked (line 12 holds numerics and interface).
 TWO='s/stiffened_gas { gamma: 1.4 } }/stiffened_gas { gamma: 1.4 } } materials { name: "gas" stiffened_gas { gamma: 1.4 } }/; s/material: "air" box/material: "gas" box/'
