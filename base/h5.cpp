@@ -261,6 +261,9 @@ WriteHook::~WriteHook() {
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const double* data) {
     write_typed(loc, name, dims, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, data);
 }
+void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const float* data) {
+    write_typed(loc, name, dims, H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, data);
+}
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const int* data) {
     write_typed(loc, name, dims, H5T_STD_I32LE, H5T_NATIVE_INT, data);
 }

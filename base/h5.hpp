@@ -69,6 +69,7 @@ template <class T> void write_attr(hid_t obj, const char* name, T value) {
 // An existing one is overwritten in place when the text fits: no new space in the file is needed then.
 void write_text(hid_t loc, const char* name, const std::string& text, size_t capacity = 0);
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const double* data);
+void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const float* data);
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const int* data);
 // While one is in scope, hook() runs after a dataset is written (write_dataset, write_table), at most once
 // per `seconds`: a coupled solver keeps its partner waiting through a long output with heartbeats between its

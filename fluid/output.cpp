@@ -47,6 +47,47 @@ Output::Output(const std::string& directory, const std::string& case_text, const
     file_.flush();
 }
 
+void Output::write_frame(const FluidSolver& solver, int stride) {
+    if (frames_ == 0) {
+        Object f = create_group(file_.id(), "frames");
+        write_attr<long>(f.id(), "stride", stride);
+        write_attr<long>(f.id(), "nx", nx_);
+        write_attr<long>(f.id(), "ny", ny_);
+        write_attr<double>(f.id(), "x_min", x_min_);
+        write_attr<double>(f.id(), "x_max", x_min_ + nx_ * dx_);
+        write_attr<double>(f.id(), "y_min", y_min_);
+        write_attr<double>(f.id(), "y_max", y_min_ + ny_ * dy_);
+    }
+    char name[32];
+    std::snprintf(name, sizeof name, "frames/%06d", frames_++);
+    const int bx = (nx_ + stride - 1) / stride, by = (ny_ + stride - 1) / stride;
+    const long nb = static_cast<long>(bx) * by;
+    std::vector<double> sum(4 * nb, 0.0), count(nb, 0.0);
+    const std::vector<double> phi = level_set_ ? solver.level_set() : std::vector<double>{};
+    for (int j = 0; j < ny_; ++j)
+        for (int i = 0; i < nx_; ++i) {
+            const long b = static_cast<long>(j / stride) * bx + i / stride;
+            const Primitive w = solver.cell_average(i, j);
+            sum[4 * b] += w.p;
+            sum[4 * b + 1] += w.rho;
+            sum[4 * b + 2] += level_set_ ? phi[static_cast<long>(j) * nx_ + i] : 1.0;
+            sum[4 * b + 3] += cavitation_ ? solver.cell_void_fraction(i, j) : 0.0;
+            count[b] += 1;
+        }
+    Object group = create_group(file_.id(), name);
+    write_attr<double>(group.id(), "time", solver.time());
+    std::vector<float> out(nb);
+    int v = 0;
+    for (const char* field : {"p", "rho", "phi", "void_fraction"}) {
+        for (long b = 0; b < nb; ++b)
+            out[b] = static_cast<float>(sum[4 * b + v] / count[b]);
+        write_dataset(group.id(), field, {hsize_t(by), hsize_t(bx)}, out.data());
+        ++v;
+    }
+    group.close();
+    file_.flush();
+}
+
 void Output::write_fields(const FluidSolver& solver, bool last_good) {
     char name[32];
     std::snprintf(name, sizeof name, "fields/%06d", count_++); // a number per try: a failed one is not reused

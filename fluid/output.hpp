@@ -10,6 +10,10 @@
 //                    hold the nearest face's ghost or last state),
 //                    shape (ny, nx) in 2D, (nx) in 1D; coefficients: modal DG coefficients, shape (cells,
 //                    variables·basis_functions)
+//   /frames/NNNNNN   2D, with output.frame_interval: attribute time; p, rho, phi, void_fraction (float32,
+//                    shape (ceil(ny / stride), ceil(nx / stride))), block averages of the cell averages
+//                    (phi 1 where there is one fluid, void_fraction 0 without cavitation); /frames has the
+//                    attributes stride, x_min, x_max, y_min, y_max, nx, ny (of the mesh)
 //   /gauges/NAME     t, rho, u, v, p: time series at the gauge point
 //   /interface       coupled runs, per step. 1D: t, dt, p_L, u_L, Z_L, p_I, u_I, displacement, dt_f, dt_s;
 //                    2D: t, dt, dt_f, dt_s, work (Σ_k p_I u_I A_k Δt of the step), total_work
@@ -41,6 +45,9 @@ class Output {
     Output& operator=(const Output&) = delete;
 
     void write_fields(const FluidSolver& solver, bool last_good = false);
+    // A light frame (/frames/NNNNNN): cell averages of p, rho, phi, void_fraction in single precision,
+    // averaged over blocks of stride × stride cells (the last block of a row or column may be smaller).
+    void write_frame(const FluidSolver& solver, int stride);
     void record_gauges(const FluidSolver& solver);
     void write_gauges();
     // Status "complete", the file closed.
@@ -62,7 +69,8 @@ class Output {
         double time;
     };
     std::vector<Snapshot> snapshots_;
-    int count_ = 0; // field outputs tried
+    int count_ = 0;  // field outputs tried
+    int frames_ = 0; // frames written
     int dim_ = 1, nx_ = 0, ny_ = 1;
     double x_min_ = 0, y_min_ = 0, dx_ = 1, dy_ = 1;
     bool cavitation_ = false, level_set_ = false, structure_ = false;

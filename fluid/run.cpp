@@ -103,7 +103,11 @@ class FluidRun : public Run {
              std::unique_ptr<StructureLink> link)
         : solver_(std::move(solver)), link_(std::move(link)),
           out_(p.directory, c.text(), *solver_, p.gauges) {
-        out_.record_gauges(*solver_);
+        const auto& o = c.get().output();
+        const Mesh& m = solver_->mesh();
+        frame_interval_ = m.dim == 2 ? o.frame_interval() : 0.0;
+        frame_stride_ = std::max(1, static_cast<int>(std::lround(o.frame_cell() / std::max(m.dx, m.dy))));
+        record();
         out_.write_fields(*solver_);
     }
 
@@ -137,7 +141,13 @@ class FluidRun : public Run {
             throw RunFailure(exit_method_failed, f.what());
         }
     }
-    void record() override { out_.record_gauges(*solver_); }
+    void record() override {
+        out_.record_gauges(*solver_);
+        if (frame_interval_ > 0 && solver_->time() >= next_frame_ * (1 - 1e-12)) {
+            out_.write_frame(*solver_, frame_stride_);
+            next_frame_ = frame_interval_ * (std::floor(solver_->time() / frame_interval_ * (1 + 1e-12)) + 1);
+        }
+    }
     void write_output() override {
         // The structure's wait restarts: an output may take a while (a heartbeat before it and between its
         // datasets, at most once a second).
@@ -189,10 +199,13 @@ class FluidRun : public Run {
     std::unique_ptr<StructureLink> link_;
     Output out_;
     coupling::Offer offer_;
-    double dt_ = 0;            // the step agreed with the structure
-    double dt_f_ = 0;          // the fluid's own stable step Δt_f of the step being agreed
-    double coupling_wall_ = 0; // inside the coupling library: waiting for and exchanging with the structure
-    double faces_wall_ = 0;    // 2D: rebuilding the structure level set and the ghost bands (WetSolver::move)
+    double frame_interval_ = 0; // output.frame_interval (2D), 0: no frames
+    int frame_stride_ = 1;      // cells per frame block along each axis
+    double next_frame_ = 0;     // the time of the next frame
+    double dt_ = 0;             // the step agreed with the structure
+    double dt_f_ = 0;           // the fluid's own stable step Δt_f of the step being agreed
+    double coupling_wall_ = 0;  // inside the coupling library: waiting for and exchanging with the structure
+    double faces_wall_ = 0; // 2D: rebuilding the structure level set and the ghost bands (WetSolver::move)
     // Runs f, adding its wall time to `into`; returns what f returns.
     template <class F> static bool timed(double& into, F&& f) {
         const auto start = std::chrono::steady_clock::now();

@@ -31,6 +31,11 @@ class DeshpandeFleck final : public MaterialLaw {
         for (size_t k = 0; k < c.eps_p.size(); ++k) {
             require(c.sigma_c[k] > 0, "sigma_c must be positive");
             if (k > 0) require(c.eps_p[k] > c.eps_p[k - 1], "eps_p must increase");
+            // A softening foam has no unique return: the crushing stress may stay level, not fall.
+            if (k > 0)
+                require(c.sigma_c[k] >= c.sigma_c[k - 1], "sigma_c must not decrease (sigma_c[" +
+                                                              std::to_string(k) + "] < sigma_c[" +
+                                                              std::to_string(k - 1) + "])");
         }
     }
     std::string name() const override { return "deshpande_fleck"; }

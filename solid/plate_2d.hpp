@@ -100,6 +100,9 @@ class Plate2D : public Structure {
         efx_.assign(4 * ne, 0.0);
         efy_.assign(4 * ne, 0.0);
         ehg_.assign(ne, 0.0);
+        e_internal_.assign(ne, 0.0);
+        e_plastic_.assign(ne, 0.0);
+        mshare_.assign(ne, 0.0);
         std::vector<int> count(n + 1, 0);
         for (size_t e = 0; e < ne; ++e) {
             const auto& q = quads_[e];
@@ -117,6 +120,7 @@ class Plate2D : public Structure {
                     require(X_[q[k]] >= 0, "axisymmetric nodes need r >= 0");
             const double r = plane_ == Plane::Axisymmetric ? g.rc : 1.0;
             const double m = law.density() * g.area * r / 4;
+            mshare_[e] = m;
             // Hourglass vectors and stiffnesses from the reference geometry.
             const double hx = X_[q[0]] - X_[q[1]] + X_[q[2]] - X_[q[3]];
             const double hy = Y_[q[0]] - Y_[q[1]] + Y_[q[2]] - Y_[q[3]];
@@ -168,6 +172,22 @@ class Plate2D : public Structure {
     double time() const override { return time_; }
     long steps() const override { return steps_; }
     const Energies& energies() const override { return en_; }
+    // Per law: internal and plastic energy and hourglass energy of its elements, kinetic energy of the mass
+    // each element lumps to its nodes (at the velocities of kinetic()).
+    std::vector<Energies> law_energies() const override {
+        std::vector<Energies> out(laws_.size());
+        for (size_t e = 0; e < quads_.size(); ++e) {
+            Energies& l = out[law_of_[e]];
+            l.internal += e_internal_[e];
+            l.plastic += e_plastic_[e];
+            l.hourglass += ehg_[e];
+            for (int k : quads_[e]) {
+                const double vx = vx_[k] + 0.5 * last_dt_ * ax_[k], vy = vy_[k] + 0.5 * last_dt_ * ay_[k];
+                l.kinetic += 0.5 * mshare_[e] * (vx * vx + vy * vy);
+            }
+        }
+        return out;
+    }
     std::string description() const override {
         std::string d = plane_ == Plane::Axisymmetric ? "axisymmetric plate, " : "plane-strain plate, ";
         if (grid_nx_ > 0)
@@ -371,6 +391,8 @@ class Plate2D : public Structure {
             const double V = s.area * (axi ? rc : 1.0);
             internal += dw * V;
             plastic += (p.plastic_work - wp0) * V;
+            e_internal_[e] += dw * V;
+            e_plastic_[e] += (p.plastic_work - wp0) * V;
         }
         en_.internal += internal;
         en_.plastic += plastic;
@@ -520,6 +542,8 @@ class Plate2D : public Structure {
     bool parallel_ = false;
     Energies en_;
     double time_ = 0, last_dt_ = 0;
+    std::vector<double> e_internal_, e_plastic_; // per element, accumulated like en_
+    std::vector<double> mshare_;                 // per element: the mass it lumps to each of its nodes
     long steps_ = 0;
 
     double sum(size_t e, const double* v) const {

@@ -59,6 +59,14 @@ class StructureOutput {
         const Energies& e = s_.energies();
         energies_.insert(energies_.end(), {s_.time(), e.kinetic, e.elastic(), e.plastic, e.hourglass,
                                            e.external, e.balance_error()});
+        const auto laws = s_.law_energies();
+        if (!laws.empty()) {
+            layer_energies_.push_back(s_.time());
+            for (const Energies& l : laws)
+                layer_energies_.insert(layer_energies_.end(),
+                                       {l.kinetic, l.elastic(), l.plastic, l.hourglass});
+            layer_count_ = laws.size();
+        }
         for (auto& g : gauges_) {
             g.series.push_back(s_.time());
             s_.gauge_values(g.site, g.series);
@@ -84,6 +92,13 @@ class StructureOutput {
         h5::write_table(file_.id(), "energies",
                         {"t", "kinetic", "elastic", "plastic", "hourglass", "external", "balance_error"},
                         energies_);
+        if (layer_count_ > 0) {
+            std::vector<std::string> columns{"t"};
+            for (size_t l = 0; l < layer_count_; ++l)
+                for (const char* c : {"kinetic_", "elastic_", "plastic_", "hourglass_"})
+                    columns.push_back(c + std::to_string(l));
+            h5::write_table(file_.id(), "energies_by_layer", columns, layer_energies_);
+        }
         for (const auto& gauge : gauges_)
             h5::write_table(file_.id(), "gauges/" + gauge.name, gauge_columns(), gauge.series);
         file_.flush();
@@ -106,6 +121,8 @@ class StructureOutput {
     int count_ = 0;
     std::vector<Gauge> gauges_;
     std::vector<double> energies_;
+    std::vector<double> layer_energies_; // rows: t, then kinetic, elastic, plastic, hourglass of each layer
+    size_t layer_count_ = 0;
     std::vector<Snapshot> snapshots_;
 
     std::vector<std::string> gauge_columns() const {

@@ -25,6 +25,8 @@ namespace undex::solid {
 //   /energies       t, kinetic, elastic, plastic, hourglass, external, balance_error (per unit area in 1D,
 //                   per unit depth in plane strain, per radian in axisymmetry; every output.gauge_every
 //                   steps and at every output)
+//   /energies_by_layer  2D: t, then kinetic_L, elastic_L, plastic_L, hourglass_L of each layer L = 0, 1, …
+//                   (the elements of each material law, in the order of `layers`), summing to /energies
 //   /gauges/NAME    1D: t, u, v, a (nearest node), stress_xx, peeq (element containing the point);
 //                   2D: t, u_x, u_y, v_x, v_y, a_x, a_y, stress_xx, stress_yy, stress_zz, stress_xy, peeq;
 //                   the attribute columns of /gauges lists them

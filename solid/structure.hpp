@@ -65,6 +65,9 @@ class Structure {
     // attributes. Another element shape needs its topology in that writer (solid/run_structure.cpp).
     virtual std::vector<Field> mesh_fields() const = 0;
     virtual std::vector<Field> state_fields() const = 0;
+    // The energies of each material law's elements (each layer of a layered plate), summing to energies()
+    // but for the external work, which stays with the whole; empty where a structure does not split them.
+    virtual std::vector<Energies> law_energies() const { return {}; }
     virtual std::vector<std::string> gauge_columns() const = 0; // after t
     virtual GaugeSite locate(double x, double y) const = 0;     // in the reference configuration
     virtual void gauge_values(const GaugeSite& g, std::vector<double>& row) const = 0; // appended to row

@@ -141,6 +141,43 @@ void check_wet_faces(const CaseFile& cf, bool front, bool back, double thickness
                                                    (side == 0 ? "front" : "back") +
                                                    " face lies at y = " + gfmt(y) + " m, not inside " + box);
     }
+    // A clamped edge is held by a support the fluid must see: the domain's side (a plate that ends inside
+    // the fluid continues there as a rigid wall along its faces, which is a clamp only at the side).
+    const struct {
+        const cfg::SolidEdge& edge;
+        double x, side;
+        const char* path;
+    } edges[] = {{pl.left(), pl.x_min(), d.x_min(), "structure.plate.left"},
+                 {pl.right(), pl.x_min() + pl.span(), d.x_max(), "structure.plate.right"}};
+    for (const auto& e : edges)
+        if (e.edge.type() == cfg::SolidEdge::CLAMPED && std::abs(e.x - e.side) > tol)
+            cf.fail(std::string(e.path) + ".type",
+                    "a clamped edge of a wet plate must lie on the fluid's side x = " + gfmt(e.side) +
+                        " m; this one is at x = " + gfmt(e.x) + " m");
+    // The second fluid (a gas bubble) may touch the plate, not overlap it: a cell inside the structure holds
+    // no fluid.
+    const double px0 = pl.x_min(), px1 = pl.x_min() + pl.span(), py0 = pl.y_front(), py1 = py0 + thickness;
+    for (int r = 1; r < c.regions_size(); ++r) {
+        const auto& reg = c.regions(r);
+        if (reg.material() == c.regions(0).material()) continue;
+        const std::string path = "regions[" + std::to_string(r) + "]";
+        bool overlaps = false;
+        if (reg.has_ball()) {
+            const auto& b = reg.ball();
+            const double ox = std::max({px0 - b.x(), b.x() - px1, 0.0}),
+                         oy = std::max({py0 - b.y(), b.y() - py1, 0.0});
+            overlaps = std::hypot(ox, oy) < b.radius() * (1 - 1e-12);
+        } else if (reg.has_box()) {
+            const auto& b = reg.box();
+            overlaps = std::max(b.x_min(), px0) < std::min(b.x_max(), px1) &&
+                       std::max(b.y_min(), py0) < std::min(b.y_max(), py1);
+        }
+        if (overlaps)
+            cf.fail(path + (reg.has_ball() ? ".ball" : ".box"),
+                    "the " + reg.material() + " region overlaps the plate (x " + gfmt(px0) + " to " +
+                        gfmt(px1) + ", y " + gfmt(py0) + " to " + gfmt(py1) +
+                        " m): it may touch the plate, not reach into it");
+    }
 }
 
 void check_edge(const CaseFile& cf, const cfg::SolidEdge& e, const std::string& path) {
@@ -268,6 +305,19 @@ std::map<std::string, std::shared_ptr<const MaterialLaw>> make_laws(const CaseFi
         if (mat.law_case() == cfg::SolidMaterial::LAW_NOT_SET)
             cf.fail(path, "material '" + mat.name() +
                               "' needs a law: elastic, johnson_cook, deshpande_fleck or foam_1d");
+        if (mat.has_deshpande_fleck()) { // the table's own entry is named, not only the law
+            const auto& d = mat.deshpande_fleck();
+            for (int k = 1; k < std::min(d.eps_p_size(), d.sigma_c_size()); ++k) {
+                const std::string at = path + ".deshpande_fleck.", ks = std::to_string(k);
+                if (!(d.eps_p(k) > d.eps_p(k - 1)))
+                    cf.fail(at + "eps_p[" + ks + "]", "eps_p must increase: the crushing curve's strains");
+                if (!(d.sigma_c(k) >= d.sigma_c(k - 1)))
+                    cf.fail(at + "sigma_c[" + ks + "]",
+                            "sigma_c must not decrease along the crushing curve (" + gfmt(d.sigma_c(k)) +
+                                " Pa after " + gfmt(d.sigma_c(k - 1)) +
+                                " Pa): a softening foam has no unique return");
+            }
+        }
         try {
             laws[mat.name()] = make_law(mat);
         } catch (const MaterialError& e) {
