@@ -35,10 +35,16 @@ struct StructureFailure : std::runtime_error {
 // Energies of a structure (per unit area in 1D, per unit depth in plane strain, per radian in axisymmetry),
 // accumulated over the run. The internal energy includes the plastic dissipation; the hourglass energy is
 // the work of the hourglass forces of one-point quadrilaterals.
+//
+// A coupled structure's external work is the fluid's, Σ A p_I u_I Δt with u_I the velocity of the half step
+// after the load (what the fluid gives up, docs/protocol.md). The central-difference update delivers the
+// load's impulse A p_I h at the mean of the half-step velocities around it, A p_I · ½(v⁻ + v⁺) h: the
+// difference, `coupling`, is energy the staggered coupling loses (of order Δt, the work of an inelastic
+// impulse), kept apart so that the balance measures the integrator.
 struct Energies {
-    double kinetic = 0, internal = 0, plastic = 0, hourglass = 0, external = 0;
+    double kinetic = 0, internal = 0, plastic = 0, hourglass = 0, external = 0, coupling = 0;
     double elastic() const { return internal - plastic; }
-    double balance_error() const { return kinetic + internal + hourglass - external; }
+    double balance_error() const { return kinetic + internal + hourglass + coupling - external; }
 };
 
 class MaterialLaw {

@@ -311,7 +311,7 @@ class Plate2D : public Structure {
         }
         std::vector<InterfaceSolution> out;
         std::vector<double> load_x, load_y; // A_k p_I n_k, kept once the step is good
-        double fluid_work = 0;
+        double fluid_work = 0, delivered = 0; // the load's work after the fluid and after the update
         if (fluid) {
             const auto w = wet_nodes(); // areas and normals of the start of the step
             out.resize(wet_.size());
@@ -325,6 +325,7 @@ class Plate2D : public Structure {
                 out[k].u_I = nx * m.vx + ny * m.vy;
                 load_x[k] = A * m.s.p_I * nx, load_y[k] = A * m.s.p_I * ny;
                 fluid_work += load_x[k] * dux_[i] + load_y[k] * duy_[i];
+                delivered += 0.5 * h * (load_x[k] * (vx_[i] + m.vx) + load_y[k] * (vy_[i] + m.vy));
             }
         }
         long nonfinite = -1;
@@ -417,6 +418,7 @@ class Plate2D : public Structure {
         for (long i = 0; i < n; ++i)
             work += wx_[i] * dux_[i] + wy_[i] * duy_[i];
         en_.external += 0.5 * work + fluid_work;
+        en_.coupling += fluid_work - delivered;
         en_.kinetic = kinetic(dt);
         return out;
     }

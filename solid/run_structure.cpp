@@ -58,7 +58,7 @@ class StructureOutput {
     void record() {
         const Energies& e = s_.energies();
         energies_.insert(energies_.end(), {s_.time(), e.kinetic, e.elastic(), e.plastic, e.hourglass,
-                                           e.external, e.balance_error()});
+                                           e.external, e.coupling, e.balance_error()});
         const auto laws = s_.law_energies();
         if (!laws.empty()) {
             layer_energies_.push_back(s_.time());
@@ -90,7 +90,8 @@ class StructureOutput {
     }
     void write_tables() {
         h5::write_table(file_.id(), "energies",
-                        {"t", "kinetic", "elastic", "plastic", "hourglass", "external", "balance_error"},
+                        {"t", "kinetic", "elastic", "plastic", "hourglass", "external", "coupling",
+                         "balance_error"},
                         energies_);
         if (layer_count_ > 0) {
             std::vector<std::string> columns{"t"};

@@ -22,7 +22,8 @@ namespace undex::solid {
 //                       v_x, v_y, a_x, a_y, displacement and velocity (n × 3: x, y and 0, vectors in
 //                       solid.xmf for ParaView's Warp By Vector); element fields stress_xx, stress_yy, stress_zz (hoop in
 //                       axisymmetry), stress_xy, von_mises, peeq, peeq_rate, hourglass_energy
-//   /energies       t, kinetic, elastic, plastic, hourglass, external, balance_error (per unit area in 1D,
+//   /energies       t, kinetic, elastic, plastic, hourglass, external, coupling (the part of the fluid's
+//                   work the integrator does not deliver, solid/material.hpp), balance_error (per unit area in 1D,
 //                   per unit depth in plane strain, per radian in axisymmetry; every output.gauge_every
 //                   steps and at every output)
 //   /energies_by_layer  2D: t, then kinetic_L, elastic_L, plastic_L, hourglass_L of each layer L = 0, 1, …

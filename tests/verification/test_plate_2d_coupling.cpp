@@ -210,6 +210,12 @@ TEST(PlateCoupling, WetNodesKeepTheImpedanceRelationAndTheWorkIdentity) {
         EXPECT_LT(worst_relation, 1e-12);                   // measured 1e-16: round-off of 1e8-sized terms
         EXPECT_LT(worst_velocity, 1e-9 * u_max);            // measured 1e-13: positions of size 0.5 m
         EXPECT_GT(cavitating, 0);
+        // The balance with the coupling's loss kept apart (solid/material.hpp): what remains is the
+        // integrator's own error under this rough load (measured 5.1e-3 plane strain, 6.2e-3 axisymmetric, of
+        // the work); the loss itself is 2.2e-2 and 2.3e-2, so a balance that left it out would fail the bound.
+        std::printf("coupling loss %.2e of the work\n", plate.energies().coupling / std::abs(work));
+        EXPECT_LT(std::abs(plate.energies().balance_error()), 1e-2 * std::abs(work));
+        EXPECT_GT(plate.energies().coupling, 0.0); // an inelastic impulse loses energy, never gains it
     }
 }
 
