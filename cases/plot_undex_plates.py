@@ -274,7 +274,7 @@ def animate(run, gif, plt, max_frames=160):
         if "frames" not in f:
             return False
         fr = f["frames"]
-        a = fr.attrs
+        a = dict(fr.attrs)
         names = sorted(fr)
         names = names[:: max(1, int(np.ceil(len(names) / max_frames)))]
         stride = int(a["stride"])

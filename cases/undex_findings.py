@@ -19,10 +19,12 @@ criterion. The criteria (the paper states its findings in words, so each needs a
                 1.2 ms; case 1: no such second peak, the minimum before 2 ms within 0.15 ms of 1.5 ms;
   velocities    the steel plate's peak P1 velocity 0.4-0.6 times the sandwich front face's (P1);
   P2            the sandwich's P2 displacement and PEEQ at the end below the steel plate's;
-  phases        sandwich: phase 1 from the front face's start (v(P1) above 2 % of its peak) to the back
-                face's start (v(P2) above 10 % of v(P1)'s peak), phase 2 until the two velocities first meet
-                (within 5 % of v(P1)'s peak), phase 3 while they stay within 10 %; each boundary within
-                0.15 ms of the paper's after shifting by the measured arrival's difference to 0.54 ms;
+  phases        sandwich, on the P1 and P2 velocities averaged over 0.05 ms (the faces ring at the
+                structure's frequencies; the phases are the trend): phase 1 from the front face's start (v(P1)
+                above 2 % of its peak) to the back face's start (v(P2) above 10 % of v(P1)'s peak), phase 2
+                until the two velocities stay within 10 % of v(P1)'s peak of each other to the end of the
+                run (phase 3); each boundary within 0.15 ms of the paper's (0.55, 0.88, 1.63 ms) after
+                shifting by the measured arrival's difference to 0.54 ms;
   energies      steel: kinetic at least 80 % of the external work at the end; sandwich: the foam's plastic
                 dissipation at least 50 % of the external work; the sandwich's external work above the
                 steel plate's at the end of each phase (0.88, 1.63, 3.0 ms, shifted).
@@ -196,15 +198,17 @@ def main():
           h2["peeq"][-1] < h1["peeq"][-1], ci=True)
 
     # Deformation phases of the sandwich.
-    t, vf = g2["t"], g2["v_y"]
-    vb = np.interp(t, h2["t"], h2["v_y"])
+    t = g2["t"]
+    width = max(1, int(round(0.05e-3 / np.median(np.diff(t)))))
+    kernel = np.ones(width) / width
+    vf = np.convolve(g2["v_y"], kernel, mode="same")
+    vb = np.convolve(np.interp(t, h2["t"], h2["v_y"]), kernel, mode="same")
     vpk = vf.max()
     s1 = first_crossing(t, vf, 0.02 * vpk)
     s2 = first_crossing(t, vb, 0.10 * vpk)
-    meet = (np.abs(vf - vb) <= 0.05 * vpk) & (t > s2)
-    s3 = t[int(np.argmax(meet))] if meet.any() else np.nan
-    together = t[(t >= s3) & (np.abs(vf - vb) > 0.10 * vpk)] if np.isfinite(s3) else np.array([])
-    s4 = together[0] if len(together) else t[-1]
+    apart = np.nonzero(np.abs(vf - vb) > 0.10 * vpk)[0]
+    s3 = t[apart[-1] + 1] if len(apart) and apart[-1] + 1 < len(t) else np.nan
+    s4 = t[-1]
     paper = (0.55e-3, 0.88e-3, 1.63e-3)
     meas = (s1, s2, s3)
     ok = all(np.isfinite(m) and abs(m - shift - p) <= 0.15e-3 for m, p in zip(meas, paper))
@@ -212,7 +216,7 @@ def main():
           "0.55-0.88 ms, 0.88-1.63 ms, 1.5-3.0 ms",
           f"{s1 * 1e3:.3f}-{s2 * 1e3:.3f} ms, {s2 * 1e3:.3f}-{s3 * 1e3:.3f} ms, {s3 * 1e3:.3f}-{s4 * 1e3:.3f} ms "
           f"(shifted by {-shift * 1e3:+.3f} ms: {(s1 - shift) * 1e3:.3f}, {(s2 - shift) * 1e3:.3f}, "
-          f"{(s3 - shift) * 1e3:.3f} ms)", ok and s4 >= min(3.0e-3 + shift, t[-1]))
+          f"{(s3 - shift) * 1e3:.3f} ms)", ok)
 
     # Energies.
     e1, _, _ = energies(a.case1)

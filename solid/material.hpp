@@ -43,8 +43,9 @@ struct StructureFailure : std::runtime_error {
 // impulse), kept apart so that the balance measures the integrator.
 struct Energies {
     double kinetic = 0, internal = 0, plastic = 0, hourglass = 0, external = 0, coupling = 0;
+    double viscous = 0; // the work of the 2D elements' bulk viscosity (solid/plate_2d.hpp), dissipated
     double elastic() const { return internal - plastic; }
-    double balance_error() const { return kinetic + internal + hourglass + coupling - external; }
+    double balance_error() const { return kinetic + internal + viscous + hourglass + coupling - external; }
 };
 
 class MaterialLaw {

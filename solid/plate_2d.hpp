@@ -14,6 +14,13 @@
 // (Belytschko & Bindeman 1993): for a rectangle 2a × 2b, K_x = (4/3) E' b / a and K_y = (4/3) E' a / b with
 // the bending modulus E' = E / (1 − ν²) of the elastic constants, times r_c in axisymmetry, times a
 // user factor (1 by default). The hourglass energy is ½ K q², part of the energy balance.
+//
+// Bulk viscosity (optional; BulkViscosity): in compression (ε̇_v < 0) each element's pressure gains
+// q = ρ L (C_q² L ε̇_v² − C_l c ε̇_v), ρ the element's current density, L = √(area) of the mid-step
+// configuration, c the law's elastic wave speed; q of a step acts on the forces of the next, its work
+// ½ (q_old + q_new) (−Δε_v) V is the dissipated energy `viscous`. The stable step then uses the wave speed
+// Q + √(Q² + c²) with Q = C_l c − C_q² L ε̇_v of the element's last step where it was compressed (as explicit
+// codes do), c elsewhere.
 #pragma once
 #include "solid/material.hpp"
 #include "solid/structure.hpp"
@@ -78,17 +85,24 @@ inline LayeredPlate layered_plate(double x0, double span, int nx, const std::vec
     return p;
 }
 
+// Coefficients of the bulk viscosity (quadratic C_q, linear C_l); 0 and 0: none.
+struct BulkViscosity {
+    double quadratic = 0, linear = 0;
+    bool on() const { return quadratic > 0 || linear > 0; }
+};
+
 class Plate2D : public Structure {
   public:
     Plate2D(QuadMesh mesh, std::vector<std::shared_ptr<const MaterialLaw>> laws, Plane plane,
-            double hourglass = 1.0)
-        : plane_(plane), laws_(std::move(laws)), X_(std::move(mesh.x)), Y_(std::move(mesh.y)),
+            double hourglass = 1.0, BulkViscosity bulk = {})
+        : plane_(plane), bulk_(bulk), laws_(std::move(laws)), X_(std::move(mesh.x)), Y_(std::move(mesh.y)),
           quads_(std::move(mesh.quads)), law_of_(std::move(mesh.law)), grid_nx_(mesh.grid_nx),
           grid_ny_(mesh.grid_ny) {
         const size_t n = X_.size(), ne = quads_.size();
         parallel_ = ne >= 2048;
         require(Y_.size() == n && law_of_.size() == ne && ne > 0, "a 2D mesh needs nodes and elements");
         require(hourglass >= 0, "the hourglass factor must be >= 0");
+        require(bulk.quadratic >= 0 && bulk.linear >= 0, "the bulk viscosity coefficients must be >= 0");
         for (auto* v : {&ux_, &uy_, &vx_, &vy_, &ax_, &ay_, &mass_, &wx_, &wy_, &dux_, &duy_})
             v->assign(n, 0.0);
         cx_.assign(n, 0);
@@ -102,6 +116,9 @@ class Plate2D : public Structure {
         ehg_.assign(ne, 0.0);
         e_internal_.assign(ne, 0.0);
         e_plastic_.assign(ne, 0.0);
+        e_viscous_.assign(ne, 0.0);
+        q_.assign(ne, 0.0);
+        rate_v_.assign(ne, 0.0);
         mshare_.assign(ne, 0.0);
         std::vector<int> count(n + 1, 0);
         for (size_t e = 0; e < ne; ++e) {
@@ -180,6 +197,7 @@ class Plate2D : public Structure {
             Energies& l = out[law_of_[e]];
             l.internal += e_internal_[e];
             l.plastic += e_plastic_[e];
+            l.viscous += e_viscous_[e];
             l.hourglass += ehg_[e];
             for (int k : quads_[e]) {
                 const double vx = vx_[k] + 0.5 * last_dt_ * ax_[k], vy = vy_[k] + 0.5 * last_dt_ * ay_[k];
@@ -287,7 +305,13 @@ class Plate2D : public Structure {
                                   Y_[q[i]] + uy_[q[i]] - Y_[q[j]] - uy_[q[j]]);
             };
             const double L = g.area / std::max(d(0, 2), d(1, 3));
-            dt = std::min(dt, L / std::sqrt(law.wave_modulus() / law.density()));
+            const double c = std::sqrt(law.wave_modulus() / law.density());
+            double speed = c;
+            if (bulk_.on() && rate_v_[e] < 0) {
+                const double Q = bulk_.linear * c + bulk_.quadratic * bulk_.quadratic * L * -rate_v_[e];
+                speed = Q + std::sqrt(Q * Q + c * c);
+            }
+            dt = std::min(dt, L / speed);
         }
         return dt;
     }
@@ -359,9 +383,9 @@ class Plate2D : public Structure {
             work += wx_[i] * dux_[i] + wy_[i] * duy_[i];
         }
         // Element updates at the mid-step configuration.
-        double internal = 0, plastic = 0;
+        double internal = 0, plastic = 0, viscous = 0;
         const bool axi = plane_ == Plane::Axisymmetric;
-#pragma omp parallel for schedule(static) reduction(+ : internal, plastic) if (parallel_)
+#pragma omp parallel for schedule(static) reduction(+ : internal, plastic, viscous) if (parallel_)
         for (long e = 0; e < ne; ++e) {
             const auto& q = quads_[e];
             double xm[4], ym[4], dx[4], dy[4];
@@ -394,9 +418,25 @@ class Plate2D : public Structure {
             plastic += (p.plastic_work - wp0) * V;
             e_internal_[e] += dw * V;
             e_plastic_[e] += (p.plastic_work - wp0) * V;
+            if (bulk_.on()) {
+                const double dv = exx + eyy + ezz, rate = dv / dt;
+                double q = 0;
+                if (rate < 0) {
+                    const MaterialLaw& law = *laws_[law_of_[e]];
+                    const double L = std::sqrt(s.area), rho = 4 * mshare_[e] / V;
+                    const double c = std::sqrt(law.wave_modulus() / law.density());
+                    q = rho * L * (bulk_.quadratic * bulk_.quadratic * L * rate * rate - bulk_.linear * c * rate);
+                }
+                const double dq = -0.5 * (q_[e] + q) * dv * V;
+                viscous += dq;
+                e_viscous_[e] += dq;
+                q_[e] = q;
+                rate_v_[e] = rate;
+            }
         }
         en_.internal += internal;
         en_.plastic += plastic;
+        en_.viscous += viscous;
 #pragma omp parallel for schedule(static) if (parallel_)
         for (long i = 0; i < n; ++i) {
             ux_[i] += dux_[i];
@@ -520,6 +560,7 @@ class Plate2D : public Structure {
         std::function<double(double)> p;
     };
     Plane plane_;
+    BulkViscosity bulk_;
     std::vector<std::shared_ptr<const MaterialLaw>> laws_;
     std::vector<double> X_, Y_;
     std::vector<std::array<int, 4>> quads_;
@@ -545,6 +586,8 @@ class Plate2D : public Structure {
     Energies en_;
     double time_ = 0, last_dt_ = 0;
     std::vector<double> e_internal_, e_plastic_; // per element, accumulated like en_
+    std::vector<double> e_viscous_;               // per element: the bulk viscosity's work
+    std::vector<double> q_, rate_v_;              // per element: bulk viscosity pressure, volumetric rate
     std::vector<double> mshare_;                 // per element: the mass it lumps to each of its nodes
     long steps_ = 0;
 
@@ -659,7 +702,9 @@ class Plate2D : public Structure {
             const Shape s = shape(x, y);
             const double rc = 0.25 * (x[0] + x[1] + x[2] + x[3]);
             const double V = s.area * (axi ? rc : 1.0);
-            const Voigt& sig = points_[e].stress;
+            const Voigt& st = points_[e].stress;
+            const double qv = q_[e]; // the bulk viscosity's pressure (0 without)
+            const double sig[4] = {st[0] - qv, st[1] - qv, st[2] - qv, st[3]};
             const double hoop = axi ? 0.25 * s.area * sig[2] : 0.0;
             const auto& g = gamma_[e];
             double qx = 0, qy = 0;

@@ -57,14 +57,14 @@ class StructureOutput {
     }
     void record() {
         const Energies& e = s_.energies();
-        energies_.insert(energies_.end(), {s_.time(), e.kinetic, e.elastic(), e.plastic, e.hourglass,
-                                           e.external, e.coupling, e.balance_error()});
+        energies_.insert(energies_.end(), {s_.time(), e.kinetic, e.elastic(), e.plastic, e.viscous,
+                                           e.hourglass, e.external, e.coupling, e.balance_error()});
         const auto laws = s_.law_energies();
         if (!laws.empty()) {
             layer_energies_.push_back(s_.time());
             for (const Energies& l : laws)
                 layer_energies_.insert(layer_energies_.end(),
-                                       {l.kinetic, l.elastic(), l.plastic, l.hourglass});
+                                       {l.kinetic, l.elastic(), l.plastic, l.viscous, l.hourglass});
             layer_count_ = laws.size();
         }
         for (auto& g : gauges_) {
@@ -90,13 +90,13 @@ class StructureOutput {
     }
     void write_tables() {
         h5::write_table(file_.id(), "energies",
-                        {"t", "kinetic", "elastic", "plastic", "hourglass", "external", "coupling",
-                         "balance_error"},
+                        {"t", "kinetic", "elastic", "plastic", "viscous", "hourglass", "external",
+                         "coupling", "balance_error"},
                         energies_);
         if (layer_count_ > 0) {
             std::vector<std::string> columns{"t"};
             for (size_t l = 0; l < layer_count_; ++l)
-                for (const char* c : {"kinetic_", "elastic_", "plastic_", "hourglass_"})
+                for (const char* c : {"kinetic_", "elastic_", "plastic_", "viscous_", "hourglass_"})
                     columns.push_back(c + std::to_string(l));
             h5::write_table(file_.id(), "energies_by_layer", columns, layer_energies_);
         }

@@ -22,11 +22,12 @@ namespace undex::solid {
 //                       v_x, v_y, a_x, a_y, displacement and velocity (n × 3: x, y and 0, vectors in
 //                       solid.xmf for ParaView's Warp By Vector); element fields stress_xx, stress_yy, stress_zz (hoop in
 //                       axisymmetry), stress_xy, von_mises, peeq, peeq_rate, hourglass_energy
-//   /energies       t, kinetic, elastic, plastic, hourglass, external, coupling (the part of the fluid's
+//   /energies       t, kinetic, elastic, plastic, viscous (the bulk viscosity's work), hourglass,
+//                   external, coupling (the part of the fluid's
 //                   work the integrator does not deliver, solid/material.hpp), balance_error (per unit area in 1D,
 //                   per unit depth in plane strain, per radian in axisymmetry; every output.gauge_every
 //                   steps and at every output)
-//   /energies_by_layer  2D: t, then kinetic_L, elastic_L, plastic_L, hourglass_L of each layer L = 0, 1, …
+//   /energies_by_layer  2D: t, then kinetic_L, elastic_L, plastic_L, viscous_L, hourglass_L of each layer L = 0, 1, …
 //                   (the elements of each material law, in the order of `layers`), summing to /energies
 //   /gauges/NAME    1D: t, u, v, a (nearest node), stress_xx, peeq (element containing the point);
 //                   2D: t, u_x, u_y, v_x, v_y, a_x, a_y, stress_xx, stress_yy, stress_zz, stress_xy, peeq;

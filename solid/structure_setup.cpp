@@ -442,7 +442,8 @@ std::unique_ptr<Plate2D> make_plate(const CaseFile& cf, const std::vector<Layer1
     const int nx = static_cast<int>(plate_columns(pl)); // bounded by make_structure's size check
     const LayeredPlate layout = layered_plate(pl.x_min(), pl.span(), nx, thickness, rows, pl.y_front());
     auto plate = std::make_unique<Plate2D>(layout.mesh, per_layer, axi ? Plane::Axisymmetric : Plane::Strain,
-                                           st.hourglass());
+                                           st.hourglass(),
+                                           BulkViscosity{st.bulk_viscosity_quadratic(), st.bulk_viscosity_linear()});
     apply_plate_conditions(st, layout, *plate);
     return plate;
 }
