@@ -11,7 +11,7 @@ DIR_CASE1 and DIR_CASE2 are the output directories of the two runs (fluid.h5, so
                            P2 (centre of the upper face), both cases on shared axes (paper Figs 5.4, 5.7-5.9);
   undex_face_pressure.png  the pressure along the lower wet face at 0.6, 0.9, 1.2, 1.48 and 1.8 ms (Fig. 5.5);
   undex_energies.png       each plate's energies: external work, kinetic, elastic and plastic dissipation per
-                           layer, and the balance error (Fig. 5.10);
+                           layer, the bulk viscosity's dissipation, and the balance error (Fig. 5.10);
   undex_snapshots_CASE.png pressure and numerical schlieren at the fields' output times (Figs 5.2, 5.3), the
                            gas bubble (phi = 0) outlined in white, cavitating water (void fraction > 1e-6) in
                            cyan, the plate in grey; the axis r = 0 drawn as a mirror line, the picture mirrored;
@@ -127,11 +127,13 @@ def plot_energies(runs, png, plt):
     for k, run in enumerate(runs):
         a = ax[0, k]
         e, el = run.energies, run.layer_energies
-        scale = 1e6 * 2 * np.pi  # per radian in axisymmetry: the whole plate, MJ
+        scale = 2 * np.pi / 1e6  # per radian in axisymmetry: the whole plate, MJ
         a.plot(e["t"] * 1e3, e["external"] * scale, "k", lw=2, label="external work")
         a.plot(e["t"] * 1e3, e["kinetic"] * scale, label="kinetic")
         a.plot(e["t"] * 1e3, e["elastic"] * scale, label="elastic")
         a.plot(e["t"] * 1e3, e["plastic"] * scale, label="plastic dissipation, all layers")
+        if "viscous" in e:
+            a.plot(e["t"] * 1e3, e["viscous"] * scale, label="bulk viscosity's dissipation")
         names = {0: "front face", 1: "core", 2: "back face"} if len(run.layers) == 3 else {0: "plate"}
         if len(run.layers) > 1:
             for layer, law in enumerate(run.layers):
@@ -148,8 +150,8 @@ def plot_energies(runs, png, plt):
         b.set_ylabel("balance error / external")
         b.set_xlabel("t (ms)")
         b.grid(alpha=0.3)
-    fig.suptitle("Energies of the plates (paper Fig. 5.10); balance error = kinetic + internal + hourglass "
-                 "+ coupling loss - external", fontsize=10)
+    fig.suptitle("Energies of the plates (paper Fig. 5.10); balance error = kinetic + internal + viscous + "
+                 "hourglass + coupling loss - external", fontsize=10)
     fig.tight_layout()
     fig.savefig(png, dpi=110)
     plt.close(fig)
