@@ -13,8 +13,8 @@ DIR_CASE1 and DIR_CASE2 are the output directories of the two runs (fluid.h5, so
   undex_energies.png       each plate's energies: external work, kinetic, elastic and plastic dissipation per
                            layer, the bulk viscosity's dissipation, and the balance error (Fig. 5.10);
   undex_snapshots_CASE.png pressure and numerical schlieren at the fields' output times (Figs 5.2, 5.3), the
-                           gas bubble (phi = 0) outlined in white, cavitating water (void fraction > 1e-6) in
-                           cyan, the plate in grey; the axis r = 0 drawn as a mirror line, the picture mirrored;
+                           gas bubble (phi = 0) outlined in white (red on schlieren), cavitating water (void
+                           fraction > 1e-6) in cyan, the plate in grey; the axis r = 0 drawn as a mirror line, the picture mirrored;
   undex_sandwich.gif       an animation of case 2 from the light frames (fluid.h5 /frames; --no-animation skips).
 
 Sources: the pressures are the structure's interface pressure p_I of the wet node nearest r = 0 of each face
@@ -231,7 +231,8 @@ def draw_scene(ax, fields, geom, kind, plate, title, plt, vmax=None):
     xs = (np.arange(2 * nx) + 0.5) * dx - (x0 + nx * dx)
     ys = y0 + (np.arange(ny) + 0.5) * dy
     if "phi" in fields and np.nanmin(fields["phi"]) < 0 < np.nanmax(fields["phi"]):
-        ax.contour(xs, ys, mirrored(fields["phi"]), levels=[0], colors="white", linewidths=0.8)
+        ax.contour(xs, ys, mirrored(fields["phi"]), levels=[0], colors="white" if kind == "pressure" else "red",
+                   linewidths=0.8)
     if "void_fraction" in fields and np.nanmax(fields["void_fraction"]) > 1e-6:
         ax.contour(xs, ys, mirrored(fields["void_fraction"]), levels=[1e-6], colors="cyan", linewidths=0.6)
     if plate is not None:
@@ -262,7 +263,8 @@ def plot_snapshots(run, png, width, plt):
             im = draw_scene(a, fields, geom, kind, plate_outline(run, t), f"t = {t * 1e3:.2f} ms", plt)
             if kind == "pressure":
                 fig.colorbar(im, ax=a, shrink=0.8, label="p (MPa)")
-        fig.suptitle(f"{run.label}: {kind} (paper Figs 5.2, 5.3); gas outlined white, cavitation cyan, plate grey",
+        gas = "white" if kind == "pressure" else "red"
+        fig.suptitle(f"{run.label}: {kind} (paper Figs 5.2, 5.3); gas outlined {gas}, cavitation cyan, plate grey",
                      fontsize=10)
         fig.tight_layout()
         fig.savefig(png.replace(".png", f"_{kind}.png"), dpi=100)
