@@ -33,8 +33,9 @@ def main():
         two_d = int(f.attrs["dimension"]) == 2
         u, v = ("u_y", "v_y") if two_d else ("u", "v")
         fig, ax = plt.subplots(4, 1, figsize=(8, 11), sharex=True)
-        for k in ("kinetic", "elastic", "plastic", "hourglass", "external", "balance_error"):
-            ax[0].plot(t, e[k][:], label=k)
+        for k in ("kinetic", "elastic", "plastic", "viscous", "hourglass", "external", "coupling", "balance_error"):
+            if k in e and (k not in ("viscous", "coupling") or abs(e[k][:]).max() > 0):
+                ax[0].plot(t, e[k][:], label=k)
         ax[0].set_ylabel("energy (J per " + ("radian or m depth" if two_d else "m²") + ")")
         ax[0].legend(fontsize=8)
         for name, g in f["gauges"].items():
