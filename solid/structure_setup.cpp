@@ -333,6 +333,10 @@ std::vector<Layer1D> make_layers(const CaseFile& cf,
                                  bool two_d) {
     const auto& st = cf.get().structure();
     if (st.layers_size() == 0) cf.fail("structure.layers", "a structure needs at least one layer");
+    if (!two_d && (st.bulk_viscosity_quadratic() > 0 || st.bulk_viscosity_linear() > 0))
+        cf.fail(st.bulk_viscosity_quadratic() > 0 ? "structure.bulk_viscosity_quadratic"
+                                                  : "structure.bulk_viscosity_linear",
+                "bulk viscosity is a property of the 2D plates; a 1D column has none");
     std::vector<Layer1D> layers;
     for (int l = 0; l < st.layers_size(); ++l) {
         const auto& L = st.layers(l);

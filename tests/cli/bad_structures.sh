@@ -127,6 +127,7 @@ bad output-after-end 's|output { directory: "@OUT@" }|output { directory: "@OUT@
 bad zero-max-steps 's|output { directory: "@OUT@" }|output { directory: "@OUT@" } numerics { max_steps: 0 }|' 14 'numerics.max_steps'
 
 bad plate-in-1d 's/back { type: FREE }/back { type: FREE } plate { span: 1 element_size: 0.1 left { type: FREE } right { type: FREE } }/' 11 'structure.plate'
+bad bulk-viscosity-in-1d 's/back { type: FREE }/back { type: FREE } bulk_viscosity_linear: 0.06/' 11 'structure.bulk_viscosity_linear'
 
 # 2D plates: a valid plate passes check, runs alone, closes its energy balance (bound 1e-3 of the external
 # work: the O(Δt²) error of central differences under a sudden load, as in test_plate_2d), writes an XDMF
