@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
@@ -370,6 +371,41 @@ OutputFile::OutputFile(const std::string& directory, const std::string& name, co
         std::filesystem::remove(path_, ignored); // it holds no status, perhaps not even its superblock
         throw;
     }
+}
+
+OutputFile::OutputFile(const std::string& directory, const std::string& name, Reopen)
+    : directory_(directory), path_((std::filesystem::path(directory) / name).string()) {
+    init();
+    Object fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, -1, path_, "make the file access properties of");
+    if (H5Pset_file_locking(fapl.id(), false, true) < 0 ||
+        H5Pset_fclose_degree(fapl.id(), H5F_CLOSE_STRONG) < 0)
+        throw Error(path_ + ": cannot set the file access properties: " + cause());
+    const hid_t f = H5Fopen(path_.c_str(), H5F_ACC_RDWR, fapl.id());
+    if (f < 0) throw Error(path_ + ": cannot open the output to resume it: " + cause());
+    file_ = Object(f, H5Fclose, -1, path_, "");
+    fapl.close("close the file access properties of");
+    write_text(file_.id(), "status", "running", status_capacity);
+    flush();
+}
+
+void OutputFile::delete_numbered(const std::string& group, long first) const {
+    if (check(H5Lexists(file_.id(), group.c_str(), H5P_DEFAULT), file_.id(), group, "look up") <= 0) return;
+    Object g = open_group(file_.id(), group);
+    H5G_info_t info{};
+    check(H5Gget_info(g.id(), &info), g.id(), "", "read the members of");
+    std::vector<std::string> doomed;
+    for (hsize_t k = 0; k < info.nlinks; ++k) {
+        char name[64] = {};
+        if (H5Lget_name_by_idx(g.id(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT) <
+            0)
+            h5::fail(g.id(), "", "read the member names of");
+        char* end = nullptr;
+        const long n = std::strtol(name, &end, 10);
+        if (end != name && *end == '\0' && n >= first) doomed.push_back(name);
+    }
+    for (const auto& name : doomed)
+        check(H5Ldelete(g.id(), name.c_str(), H5P_DEFAULT), g.id(), name, "delete");
+    g.close();
 }
 
 OutputFile::~OutputFile() {

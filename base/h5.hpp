@@ -100,6 +100,9 @@ void write_table(hid_t file, const std::string& group, const std::vector<std::st
 class OutputFile {
   public:
     OutputFile(const std::string& directory, const std::string& name, const std::string& case_text);
+    // Resuming a run: the existing DIRECTORY/NAME, opened for writing, its status "running" again.
+    struct Reopen {};
+    OutputFile(const std::string& directory, const std::string& name, Reopen);
     ~OutputFile();
     OutputFile(const OutputFile&) = delete;
     OutputFile& operator=(const OutputFile&) = delete;
@@ -107,6 +110,9 @@ class OutputFile {
     const std::string& path() const { return path_; }
     const std::string& directory() const { return directory_; }
     void flush() const;
+    // Deletes the members of group named by a number (NNNNNN) of at least first: the outputs a resumed run
+    // writes again.
+    void delete_numbered(const std::string& group, long first) const;
     void set_status(const std::string& status) const;
     // A table of interleaved rows as one dataset per column in group (write_table).
     void write_table(const std::string& group, const std::vector<std::string>& columns,

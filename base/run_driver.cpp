@@ -42,19 +42,32 @@ double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// One progress line: step, time, share of the end time, step size, wall time and the time left.
-void progress_line(std::ostream& log, const Run& run, const RunPlan& plan, double dt, double wall) {
+// One progress line: step, time, share of the end time, step size, wall time and the time left (from the
+// pace since t0, the time this process started from: 0, or a checkpoint's).
+void progress_line(std::ostream& log, const Run& run, const RunPlan& plan, double t0, double dt,
+                   double wall) {
     const double frac = run.time() / plan.end_time;
+    const double done = (run.time() - t0) / (plan.end_time - t0);
     log << "step " << run.steps()
         << format("  t = %.4e s (%5.1f%%)  dt = %.3e s  wall %.1f s  left ~%.1f s", run.time(), 100 * frac,
-                  dt, wall, frac > 0 ? wall * (1 - frac) / frac : 0.0)
+                  dt, wall, done > 0 ? wall * (1 - done) / done : 0.0)
         << run.progress() << std::endl;
 }
 
+void checkpoint(Run& run, const std::string& name, std::ostream& log) {
+    const auto start = Clock::now();
+    const std::string path = run.write_checkpoint();
+    if (path.empty()) return; // a side that keeps none (undex-rigid)
+    log << name << ": checkpoint at step " << run.steps() << format(" (t = %.9g s) in ", run.time()) << path
+        << format(" (%.1f s)", seconds_since(start)) << std::endl;
+}
+
 // The steps of a run until its end; throws RunFailure or what the run throws.
-void step_to_end(Run& run, const RunPlan& plan, std::ostream& log, Clock::time_point start) {
+void step_to_end(Run& run, const RunPlan& plan, const std::string& name, std::ostream& log,
+                 Clock::time_point start) {
     OutputClock clock(plan, run.time());
-    auto last_progress = start;
+    const double t0 = run.time();
+    auto last_progress = start, last_checkpoint = start;
     for (;;) {
         if (run.owns_clock() && clock.done(run.time())) break;
         if (stop_requested()) throw RunFailure(exit_stopped, stop_reason());
@@ -62,7 +75,10 @@ void step_to_end(Run& run, const RunPlan& plan, std::ostream& log, Clock::time_p
             throw RunFailure(exit_method_failed,
                              "stopped: numerics.max_steps = " + std::to_string(plan.max_steps) +
                                  " reached at t = " + format("%.6g", run.time()) + " s");
-        const std::optional<Step> s = run.next_step(clock);
+        const bool due =
+            plan.checkpoint_seconds > 0 &&
+            std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= plan.checkpoint_seconds;
+        const std::optional<Step> s = run.next_step(clock, due);
         if (!s) break;
         // A partner's step was checked against the same floor by the coupling library.
         if (!(run.owns_clock() ? clock.admissible(*s) : s->dt > 0 && std::isfinite(s->dt)))
@@ -77,10 +93,14 @@ void step_to_end(Run& run, const RunPlan& plan, std::ostream& log, Clock::time_p
             run.write_output();
             clock.passed();
         }
+        if (s->checkpoint) {
+            checkpoint(run, name, log);
+            last_checkpoint = Clock::now();
+        }
         const auto now = Clock::now();
         if (std::chrono::duration<double>(now - last_progress).count() >= plan.progress_seconds ||
             clock.done(run.time())) {
-            progress_line(log, run, plan, s->dt, std::chrono::duration<double>(now - start).count());
+            progress_line(log, run, plan, t0, s->dt, std::chrono::duration<double>(now - start).count());
             last_progress = now;
         }
     }
@@ -94,7 +114,7 @@ int drive(Run& run, const RunPlan& plan, const std::string& name, std::ostream& 
     std::string why;
     int status = exit_complete;
     try {
-        step_to_end(run, plan, log, start);
+        step_to_end(run, plan, name, log, start);
         run.complete();
     } catch (const RunFailure& f) {
         why = f.what(), status = f.status;
@@ -110,6 +130,16 @@ int drive(Run& run, const RunPlan& plan, const std::string& name, std::ostream& 
     }
     if (status != exit_complete) {
         log << name << ": error: " << why << std::endl;
+        // Stopped (a signal, or the partner's failure) at the end of a step: the run can be resumed from
+        // here.
+        if (status != exit_method_failed && plan.checkpoint_seconds > 0 && run.at_step_end() &&
+            run.steps() > 0) {
+            try {
+                checkpoint(run, name, log);
+            } catch (const std::exception& e) {
+                log << name << ": error: the checkpoint could not be written: " << e.what() << std::endl;
+            }
+        }
         try {
             run.fail(why);
             log << name << ": the last good state (t = " << format("%.9g", run.time()) << " s, step "

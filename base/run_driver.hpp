@@ -14,6 +14,10 @@
 //   5. record    gauges and energies every output.gauge_every steps and at every output
 //   6. output    fields at an output time
 //   7. progress  a line every output.progress_seconds and at the end
+//   8. checkpoint when the step was marked for one (base/checkpoint.hpp): every output.checkpoint_seconds of
+//                wall time; the side that owns the clock marks it, a coupled structure learns it from the
+//                Grant. A run stopped by a signal, or by its partner's failure, at the end of a step writes
+//                one before its last good state.
 #pragma once
 #include "base/exit_status.hpp"
 #include "base/run_plan.hpp"
@@ -33,7 +37,8 @@ struct RunFailure : std::runtime_error {
 
 struct Step {
     double dt = 0;
-    bool output = false; // the step ends on an output time
+    bool output = false;     // the step ends on an output time
+    bool checkpoint = false; // a checkpoint is written at its end
 };
 
 // The Δt floor: a step shorter than dt_floor_fraction · end_time is refused, unless it was shortened to end
@@ -74,8 +79,10 @@ class Run {
     virtual long steps() const = 0;
     // Whether this side stops at end_time itself (false: its partner's Stop ends the run).
     virtual bool owns_clock() const { return true; }
-    // The next step (3. above); nothing when the partner ended the run. Throws RunFailure.
-    virtual std::optional<Step> next_step(const OutputClock& clock) = 0;
+    // The next step (3. above); nothing when the partner ended the run. Throws RunFailure. checkpoint_due:
+    // the side that owns the clock asks for a checkpoint at the end of the step (a coupled fluid tells the
+    // structure in its Grant); a side that follows sets Step::checkpoint as its partner says.
+    virtual std::optional<Step> next_step(const OutputClock& clock, bool checkpoint_due) = 0;
     // Advances by exactly s.dt; throws RunFailure and then leaves the last good state in place.
     virtual void advance(const Step& s) = 0;
     virtual void record() = 0;
@@ -89,6 +96,11 @@ class Run {
     // failed with the message; throws when that cannot be written (the driver says so).
     virtual void fail(const std::string& why) = 0;
     virtual std::string output_path() const = 0;
+    // Writes a checkpoint of the state at the end of the last step and returns its path (base/checkpoint.hpp).
+    virtual std::string write_checkpoint() = 0;
+    // Whether the state is that of the end of a step, as a checkpoint must hold it (false while a step is
+    // half taken: a fluid that has moved its wet faces to the structure's offer).
+    virtual bool at_step_end() const { return true; }
     // Appended to the progress line and to the closing line.
     virtual std::string progress() const { return ""; }
     virtual std::string summary(double /*wall_seconds*/) const { return ""; }

@@ -49,6 +49,7 @@ RunPlan plan(const CaseFile& cf) {
     if (name.empty()) name = std::filesystem::path(cf.path()).stem().string();
     p.directory = c.output().has_directory() ? c.output().directory() : "out/" + name;
     p.progress_seconds = c.output().progress_seconds();
+    p.checkpoint_seconds = c.output().checkpoint_seconds();
     p.gauge_every = c.output().gauge_every();
     p.threads = c.numerics().threads();
     p.max_steps = c.numerics().max_steps();

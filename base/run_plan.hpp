@@ -21,6 +21,7 @@ struct RunPlan {
     std::vector<double> output_times; // sorted, ending with end_time
     std::string directory;
     double progress_seconds = 2;
+    double checkpoint_seconds = 600; // wall seconds between checkpoints, 0: none (base/checkpoint.hpp)
     int gauge_every = 1;
     int threads = 0;
     long max_steps = 0;

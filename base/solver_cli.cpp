@@ -2,6 +2,7 @@
 #include "base/solver_cli.hpp"
 
 #include "base/case_file.hpp"
+#include "base/checkpoint.hpp"
 #include "base/exit_status.hpp"
 #include "base/h5.hpp"
 #include "base/run_lock.hpp"
@@ -12,6 +13,7 @@
 
 #include <iostream>
 #include <limits>
+#include <sstream>
 
 namespace undex {
 
@@ -37,7 +39,7 @@ namespace {
 
 // What the command line asked for.
 struct Request {
-    std::string case_path, couple, output;
+    std::string case_path, couple, output, resume;
     std::vector<std::string> sets;
     bool check = false, options = false, force = false;
     std::string command; // the whole command line, for the lock file
@@ -78,16 +80,41 @@ void describe(CLI::App& app, const SolverCommands& c, Request& r) {
                        ->type_name("ENDPOINT");
     auto* force = app.add_flag(
         "--force", r.force, "take over a stale lock of the output directory (left by a run that was killed)");
+    auto* resume = app.add_option("--resume", r.resume,
+                                  "continue the run of CASE from a checkpoint of it (undex run --resume)")
+                       ->type_name("CHECKPOINT")
+                       ->check(CLI::ExistingFile);
     if (c.check)
         app.add_flag("--check", r.check, "check this solver's part of CASE, print a summary, write nothing")
             ->excludes(couple)
-            ->excludes(force);
+            ->excludes(force)
+            ->excludes(resume);
     if (c.options)
         app.add_flag("--options", r.options, "list the named choices of a case file")->excludes(case_opt);
     if (c.sample) {
         add_sample_options(app, r);
         app.get_option("--sample")->excludes(case_opt)->excludes(couple);
     }
+}
+
+// A checkpoint continues the run it was written by: the same case, overrides and output directory included.
+void check_resume(const std::string& path, const CaseFile& cf) {
+    const std::string saved = State::open(path).case_text(), now = cf.text();
+    if (saved == now) return;
+    auto lines = [](const std::string& text) {
+        std::vector<std::string> out;
+        std::istringstream in(text);
+        for (std::string l; std::getline(in, l);)
+            out.push_back(l);
+        return out;
+    };
+    const auto a = lines(now), b = lines(saved);
+    size_t k = 0;
+    while (k < a.size() && k < b.size() && a[k] == b[k])
+        ++k;
+    throw UsageError(path + ": the checkpoint is of another case (or other --set overrides or output " +
+                     "directory): line " + std::to_string(k + 1) + " of the case is '" +
+                     (k < a.size() ? a[k] : "") + "', the checkpoint's '" + (k < b.size() ? b[k] : "") + "'");
 }
 
 int dispatch(const SolverCommands& c, Request& r) {
@@ -105,8 +132,9 @@ int dispatch(const SolverCommands& c, Request& r) {
     const RunLock lock(plan(cf).directory, r.command, r.force);
     if (!lock.taken_over().empty())
         std::cerr << c.name << ": --force: took over the stale lock of " << lock.taken_over() << "\n";
+    if (!r.resume.empty()) check_resume(r.resume, cf);
     try {
-        return c.run(cf, r.couple);
+        return c.run(cf, r.couple, r.resume);
     } catch (const h5::Error& e) { // an output that cannot be created: the run fails (exit status 2)
         std::cerr << c.name << ": error: " << e.what() << "\n";
         return exit_method_failed;

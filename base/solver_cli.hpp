@@ -1,5 +1,6 @@
 // The command line shared by the solver executables (undex-fluid, undex-solid, undex-rigid):
-//   NAME CASE [--set key=value]... [-o DIR] [--couple ENDPOINT] [--force]   run the case
+//   NAME CASE [--set key=value]... [-o DIR] [--couple ENDPOINT] [--force] [--resume CHECKPOINT]   run the
+//                                                                  case (from a checkpoint of it)
 //   NAME --check CASE [--set key=value]... [-o DIR]                check the solver's part of the case
 //   NAME --options                                                  list the named choices it accepts
 //   NAME --sample DIR --time T --line "x0,y0 x1,y1" --points N [--fields rho,u,v,p]   (undex-fluid only)
@@ -43,8 +44,9 @@ struct SampleRequest {
 struct SolverCommands {
     std::string name;        // the executable's name, prefix of its error lines
     std::string description; // one line for --help
-    // Runs the case; couple: the endpoint of the coupling ("" for a run alone).
-    std::function<int(const CaseFile&, const std::string& couple)> run;
+    // Runs the case; couple: the endpoint of the coupling ("" for a run alone); resume: the checkpoint to
+    // continue from ("" for a new run), written for this case (checked before).
+    std::function<int(const CaseFile&, const std::string& couple, const std::string& resume)> run;
     // Checks the solver's part of a case, prints one line "CASE: ok: ..." and returns 0 (throws CaseError).
     std::function<int(const CaseFile&)> check;
     // Prints the named choices of a case file the solver accepts.

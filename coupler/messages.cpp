@@ -257,6 +257,7 @@ Grant check_grant(const wire::Grant& g, std::size_t nodes, double dt_s, double o
     check_range(g.p_floor(), -pressure, pressure, peer, "Grant.p_floor", step, "Pa");
     Grant r;
     r.dt = g.dt(), r.time = g.time(), r.p_floor = g.p_floor(), r.output = g.output();
+    r.checkpoint = g.checkpoint();
     r.p_L = per_node(g.p_l(), nodes, -pressure, pressure, peer, "Grant.p_L", step, "Pa");
     r.u_L = per_node(g.u_l(), nodes, -velocity, velocity, peer, "Grant.u_L", step, "m/s");
     r.Z_L = per_node(g.z_l(), nodes, 0, impedance, peer, "Grant.Z_L", step, "Pa s/m");

@@ -61,20 +61,31 @@ const std::string& FluidParticipant::endpoint() const {
     return channel_->endpoint();
 }
 
-Interface FluidParticipant::initialize(int dimension, int alpha, double end_time) {
+Interface FluidParticipant::initialize(int dimension, int alpha, double end_time, const Start& start) {
     try {
-        return handshake(dimension, alpha, end_time);
+        return handshake(dimension, alpha, end_time, start);
     } catch (const CouplingError& e) {
         fail(e.what()); // the structure learns why
         throw;
     }
 }
 
-Interface FluidParticipant::handshake(int dimension, int alpha, double end_time) {
+Interface FluidParticipant::handshake(int dimension, int alpha, double end_time, const Start& start) {
     const Envelope e = channel_->receive(0, Envelope::kHello);
     if (e.has_stop())
         throw CouplingError("the structure solver stopped before the handshake: " + check_stop(e.stop()));
     interface_ = check_hello(e.hello(), dimension, alpha, peer_);
+    const double t = e.hello().start_time();
+    if (e.hello().start_step() != start.step ||
+        !(std::abs(t - start.time) <= limits::time_tolerance * std::max(end_time, 1e-300))) {
+        std::ostringstream s;
+        s.precision(12);
+        s << "the structure solver (" << peer_ << ") starts from step " << e.hello().start_step()
+          << " (t = " << t << " s), the fluid from step " << start.step << " (t = " << start.time
+          << " s): a resumed run needs both sides' checkpoints of one step";
+        throw CouplingError(s.str());
+    }
+    step_ = start.step;
     end_time_ = end_time;
     Envelope w;
     w.set_step(0);
@@ -108,6 +119,7 @@ Answer FluidParticipant::exchange(double dt_f, Grant& g) {
     m->set_time(g.time);
     m->set_p_floor(g.p_floor);
     m->set_output(g.output);
+    m->set_checkpoint(g.checkpoint);
     set(m->mutable_p_l(), g.p_L);
     set(m->mutable_u_l(), g.u_L);
     set(m->mutable_z_l(), g.Z_L);
@@ -149,7 +161,7 @@ StructureParticipant::StructureParticipant(const Options& o, const std::string& 
 
 StructureParticipant::~StructureParticipant() = default;
 
-double StructureParticipant::initialize(const Interface& i) {
+double StructureParticipant::initialize(const Interface& i, const Start& start) {
     Envelope e;
     e.set_step(0);
     auto* h = e.mutable_hello();
@@ -164,6 +176,9 @@ double StructureParticipant::initialize(const Interface& i) {
     set(h->mutable_area(), i.area);
     for (const int f : i.face)
         h->add_face(f);
+    h->set_start_step(start.step);
+    h->set_start_time(start.time);
+    step_ = start.step, time_ = start.time, short_ = start.after_short;
     nodes_ = i.size();
     channel_->send(e);
     const Envelope w = channel_->receive(0, Envelope::kWelcome);

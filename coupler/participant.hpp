@@ -50,6 +50,7 @@ struct Offer {
 struct Grant {
     double dt = 0, time = 0, p_floor = 0;
     bool output = false;
+    bool checkpoint = false; // both sides write a checkpoint at the end of the step
     std::vector<double> p_L, u_L, Z_L, geometric;
 };
 
@@ -60,6 +61,14 @@ struct Answer {
 
 class Channel;
 
+// Where a run starts: the step it continues after and its time (0, 0 for a new run; a checkpoint's for a
+// resumed one), and on the structure side whether the last step granted was below the Δt floor.
+struct Start {
+    std::int64_t step = 0;
+    double time = 0;
+    bool after_short = false;
+};
+
 // The fluid side.
 class FluidParticipant {
   public:
@@ -67,8 +76,8 @@ class FluidParticipant {
     ~FluidParticipant();
     // Waits for the structure's Hello, checks it (dimension and α must match, one value per node, unit
     // normals, positive areas, every value in its range: docs/protocol.md §5) and answers with this side's
-    // name and the end time.
-    Interface initialize(int dimension, int alpha, double end_time);
+    // name and the end time. A structure that starts from another step than `start` is refused.
+    Interface initialize(int dimension, int alpha, double end_time, const Start& start = {});
     // The structure's offer for the next step (Δt_s not below the Δt floor, every value in range); false
     // when the structure ended the run (Stop).
     bool receive_offer(Offer& offer);
@@ -88,7 +97,7 @@ class FluidParticipant {
     const std::string& stop_reason() const { return stop_reason_; }
 
   private:
-    Interface handshake(int dimension, int alpha, double end_time);
+    Interface handshake(int dimension, int alpha, double end_time, const Start& start);
     std::unique_ptr<Channel> channel_;
     std::string solver_, version_, peer_, stop_reason_;
     Options options_;
@@ -102,8 +111,11 @@ class StructureParticipant {
   public:
     StructureParticipant(const Options& o, const std::string& solver, const std::string& version);
     ~StructureParticipant();
-    // Sends Hello with the interface and waits for the fluid's Welcome; returns the end time of the run.
-    double initialize(const Interface& i);
+    // Sends Hello with the interface and where this side starts, and waits for the fluid's Welcome; returns
+    // the end time of the run.
+    double initialize(const Interface& i, const Start& start = {});
+    // Where this side stands after its last step (for a checkpoint).
+    Start position() const { return {step_, time_, short_}; }
     // Offers the next step and waits for the grant (checked: Δt, time against this side's, every value in
     // range); false when the fluid ended the run (Stop).
     bool exchange(const Offer& offer, Grant& grant);

@@ -23,6 +23,12 @@ class LevelSet {
 
     int nx() const { return nx_; }
     int ny() const { return ny_; }
+    template <class S> void state(S& s) {
+        s.io("phi", phi_);
+        s.io("pad", pad_);
+        s.io("stage", stage_);
+        s.io("rate", rate_);
+    }
     double& operator()(int i, int j) { return phi_[static_cast<size_t>(j) * nx_ + i]; }
     double operator()(int i, int j) const { return phi_[static_cast<size_t>(j) * nx_ + i]; }
     const std::vector<double>& values() const { return phi_; }

@@ -50,9 +50,9 @@ int options() {
     return 0;
 }
 
-int run(const undex::CaseFile& c, const std::string& couple) {
+int run(const undex::CaseFile& c, const std::string& couple, const std::string& resume) {
     try {
-        return undex::fluid::run(c, std::cout, couple);
+        return undex::fluid::run(c, std::cout, couple, resume);
     } catch (const undex::fluid::SolverFailure& e) {
         std::cerr << "undex-fluid: error: initial data: " << e.what() << "\n";
         return undex::exit_method_failed;

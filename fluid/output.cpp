@@ -5,6 +5,8 @@
 #include <hdf5.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
@@ -16,12 +18,8 @@ using namespace undex::h5;
 Output::Output(const std::string& directory, const std::string& case_text, const FluidSolver& solver,
                const std::vector<GaugePoint>& gauges)
     : file_(directory, "fluid.h5", case_text), gauges_(gauges), series_(gauges.size()) {
+    describe(solver);
     const Mesh& m = solver.mesh();
-    dim_ = m.dim, nx_ = m.nx, ny_ = m.ny;
-    x_min_ = m.x_min, y_min_ = m.y_min, dx_ = m.dx, dy_ = m.dy;
-    cavitation_ = solver.has_cavitation();
-    level_set_ = !solver.level_set().empty();
-    structure_ = !solver.structure_level_set().empty();
     write_attr<long>(file_.id(), "dim", m.dim);
     write_attr<long>(file_.id(), "nx", m.nx);
     write_attr<long>(file_.id(), "ny", m.ny);
@@ -47,8 +45,50 @@ Output::Output(const std::string& directory, const std::string& case_text, const
     file_.flush();
 }
 
+Output::Output(const std::string& directory, const FluidSolver& solver, const std::vector<GaugePoint>& gauges,
+               State& checkpoint)
+    : file_(directory, "fluid.h5", OutputFile::Reopen{}), gauges_(gauges), series_(gauges.size()) {
+    describe(solver);
+    state(checkpoint);
+    file_.delete_numbered("fields", count_);
+    file_.delete_numbered("frames", frames_);
+    write_gauges(); // flushes the file
+    write_xdmf();
+}
+
+void Output::describe(const FluidSolver& solver) {
+    const Mesh& m = solver.mesh();
+    dim_ = m.dim, nx_ = m.nx, ny_ = m.ny;
+    x_min_ = m.x_min, y_min_ = m.y_min, dx_ = m.dx, dy_ = m.dy;
+    cavitation_ = solver.has_cavitation();
+    level_set_ = !solver.level_set().empty();
+    structure_ = !solver.structure_level_set().empty();
+}
+
+void Output::state(State& s) {
+    for (size_t k = 0; k < series_.size(); ++k)
+        s.io("gauge" + std::to_string(k), series_[k]);
+    s.io("count", count_);
+    s.io("frames", frames_);
+    std::vector<int> number;
+    std::vector<double> time;
+    for (const auto& snap : snapshots_)
+        number.push_back(std::atoi(snap.group.c_str() + std::strlen("fields/"))), time.push_back(snap.time);
+    s.io("snapshot_number", number);
+    s.io("snapshot_time", time);
+    if (!s.loading()) return;
+    snapshots_.clear();
+    for (size_t k = 0; k < number.size(); ++k) {
+        char name[32];
+        std::snprintf(name, sizeof name, "fields/%06d", number[k]);
+        snapshots_.push_back({name, time[k]});
+    }
+}
+
 void Output::write_frame(const FluidSolver& solver, int stride) {
-    if (frames_ == 0) {
+    // The group of frames is made with the first; a resumed run finds it there.
+    if (frames_ == 0 &&
+        check(H5Lexists(file_.id(), "frames", H5P_DEFAULT), file_.id(), "frames", "look up") <= 0) {
         Object f = create_group(file_.id(), "frames");
         write_attr<long>(f.id(), "stride", stride);
         write_attr<long>(f.id(), "nx", nx_);

@@ -41,6 +41,10 @@ class Output {
     // Creates <directory>/fluid.h5 (replacing an older one) and fluid.xmf.
     Output(const std::string& directory, const std::string& case_text, const FluidSolver& solver,
            const std::vector<GaugePoint>& gauges);
+    // Resuming from a checkpoint: the existing <directory>/fluid.h5 with what it held at the checkpoint (the
+    // outputs written after it deleted), and the gauges' series so far.
+    Output(const std::string& directory, const FluidSolver& solver, const std::vector<GaugePoint>& gauges,
+           State& checkpoint);
     Output(const Output&) = delete;
     Output& operator=(const Output&) = delete;
 
@@ -58,8 +62,11 @@ class Output {
     void write_table(const std::string& group, const std::vector<std::string>& columns,
                      const std::vector<double>& data);
     const std::string& path() const { return file_.path(); }
+    // What a checkpoint holds of the output: the gauges' series, the outputs written.
+    void state(State& s);
 
   private:
+    void describe(const FluidSolver& solver);
     void write_xdmf() const;
     h5::OutputFile file_;
     std::vector<GaugePoint> gauges_;

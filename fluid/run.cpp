@@ -25,6 +25,14 @@ namespace undex::fluid {
 
 namespace {
 
+// A stop request (SIGINT, SIGTERM, SIGHUP) ends the coupling's waits, but not the wait for the structure's
+// Answer: the fluid has moved its wet faces to the step's offer by then, and the structure answers a Grant
+// without waiting. The step is finished and the run stops at its end, where it can be checkpointed.
+bool in_exchange = false;
+bool stop_wait() {
+    return stop_requested() && !in_exchange;
+}
+
 bool coupled_case(const CaseFile& c) {
     if (c.get().geometry() == config::PLANAR_2D || c.get().geometry() == config::AXISYMMETRIC_2D)
         return c.get().has_structure();
@@ -35,12 +43,13 @@ bool coupled_case(const CaseFile& c) {
 // in 2D its wet faces lie inside the fluid domain and move (physics.md §5.1, the solver's WetSolver part).
 class StructureLink {
   public:
-    StructureLink(const RunPlan& p, const std::string& endpoint, FluidSolver& solver, std::ostream& log) {
+    StructureLink(const RunPlan& p, const std::string& endpoint, FluidSolver& solver, std::ostream& log,
+                  const coupling::Start& start) {
         const Mesh& m = solver.mesh();
-        const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms, stop_requested};
+        const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms, stop_wait};
         link_ = std::make_unique<coupling::FluidParticipant>(o, "undex-fluid", "0.1.0");
         log << "undex-fluid: waiting for the structure solver on " << link_->endpoint() << std::endl;
-        const auto iface = link_->initialize(m.dim, m.alpha, p.end_time);
+        const auto iface = link_->initialize(m.dim, m.alpha, p.end_time, start);
         if (m.dim == 1) {
             if (iface.size() != 1)
                 refuse("the structure solver (" + link_->peer_solver() + ") has " +
@@ -99,26 +108,35 @@ class StructureLink {
 // A fluid run for the driver (base/run_driver.hpp), coupled or not.
 class FluidRun : public Run {
   public:
+    // A new run (resume: nothing), or one continued from a checkpoint (its solver, attached to the same wet
+    // nodes, restored here).
     FluidRun(const CaseFile& c, const RunPlan& p, std::unique_ptr<FluidSolver> solver,
-             std::unique_ptr<StructureLink> link)
-        : solver_(std::move(solver)), link_(std::move(link)),
-          out_(p.directory, c.text(), *solver_, p.gauges) {
+             std::unique_ptr<StructureLink> link, State* resume)
+        : solver_(std::move(solver)), link_(std::move(link)), case_text_(c.text()), directory_(p.directory) {
         const auto& o = c.get().output();
         const Mesh& m = solver_->mesh();
         frame_interval_ = m.dim == 2 ? o.frame_interval() : 0.0;
         frame_stride_ = std::max(1, static_cast<int>(std::lround(o.frame_cell() / std::max(m.dx, m.dy))));
+        if (resume) {
+            state(*resume);
+            State o = resume->scope("output");
+            out_ = std::make_unique<Output>(p.directory, *solver_, p.gauges, o);
+            return;
+        }
+        out_ = std::make_unique<Output>(p.directory, c.text(), *solver_, p.gauges);
         record();
-        out_.write_fields(*solver_);
+        out_->write_fields(*solver_);
     }
 
     double time() const override { return solver_->time(); }
     long steps() const override { return solver_->steps(); }
 
-    std::optional<Step> next_step(const OutputClock& clock) override {
+    std::optional<Step> next_step(const OutputClock& clock, bool checkpoint_due) override {
         if (link_ && !timed(coupling_wall_, [&] { return (*link_)->receive_offer(offer_); }))
             throw RunFailure(exit_coupling_failed, "the structure solver stopped the run at step " +
                                                        std::to_string((*link_)->step()) + ": " +
                                                        (*link_)->stop_reason());
+        at_step_end_ = false; // until the step is taken
         if (link_ && link_->wet()) {
             try {
                 timed(faces_wall_, [&] { return link_->wet()->move(offer_.x, offer_.y), true; });
@@ -128,10 +146,17 @@ class FluidRun : public Run {
         }
         double dt = dt_f_ = solver_->stable_dt();
         if (link_) dt = std::min(dt, offer_.dt);
-        const Step s = clock.clip(time(), dt);
+        Step s = clock.clip(time(), dt);
+        s.checkpoint = checkpoint_due;
         if (!link_ || !clock.admissible(s)) return s; // the driver refuses a step that collapsed
-        exchange(s);
-        return Step{dt_, s.output};
+        {
+            struct Exchanging { // no return before the Answer, even on an exception
+                Exchanging() { in_exchange = true; }
+                ~Exchanging() { in_exchange = false; }
+            } exchanging;
+            exchange(s);
+        }
+        return Step{dt_, s.output, s.checkpoint};
     }
 
     void advance(const Step& s) override {
@@ -140,11 +165,21 @@ class FluidRun : public Run {
         } catch (const SolverFailure& f) {
             throw RunFailure(exit_method_failed, f.what());
         }
+        at_step_end_ = true;
+    }
+    bool at_step_end() const override { return at_step_end_; }
+    std::string write_checkpoint() override {
+        State s = State::create(directory_, "fluid", steps(), time(), case_text_);
+        state(s);
+        State o = s.scope("output");
+        out_->state(o);
+        s.commit();
+        return checkpoint_path(directory_, "fluid");
     }
     void record() override {
-        out_.record_gauges(*solver_);
+        out_->record_gauges(*solver_);
         if (frame_interval_ > 0 && solver_->time() >= next_frame_ * (1 - 1e-12)) {
-            out_.write_frame(*solver_, frame_stride_);
+            out_->write_frame(*solver_, frame_stride_);
             next_frame_ = frame_interval_ * (std::floor(solver_->time() / frame_interval_ * (1 + 1e-12)) + 1);
         }
     }
@@ -156,7 +191,7 @@ class FluidRun : public Run {
             (*link_)->heartbeat();
             keep_waiting.emplace([this] { (*link_)->heartbeat(); }, 1.0);
         }
-        out_.write_fields(*solver_);
+        out_->write_fields(*solver_);
         if (link_ && link_->wet() && !last_answer_.p_I.empty()) {
             const WetFaces& f = link_->wet()->faces();
             for (int k = 0; k < f.nodes(); ++k)
@@ -171,19 +206,19 @@ class FluidRun : public Run {
         if (link_) (*link_)->finalize("end time reached");
     }
     void complete() override {
-        out_.write_gauges();
+        out_->write_gauges();
         write_history();
-        out_.complete();
+        out_->complete();
     }
     void fail(const std::string& why) override {
         if (link_) (*link_)->fail(why); // best effort: the peer learns the cause
-        out_.fail(why, [&] {
-            out_.write_fields(*solver_, true);
+        out_->fail(why, [&] {
+            out_->write_fields(*solver_, true);
             write_history();
-            out_.write_gauges();
+            out_->write_gauges();
         });
     }
-    std::string output_path() const override { return out_.path(); }
+    std::string output_path() const override { return out_->path(); }
     std::string summary(double wall) const override {
         if (!link_) return "";
         std::string out = format(" (coupling %.3f s, %.1f %%", coupling_wall_, 100 * coupling_wall_ / wall);
@@ -197,7 +232,18 @@ class FluidRun : public Run {
   private:
     std::unique_ptr<FluidSolver> solver_;
     std::unique_ptr<StructureLink> link_;
-    Output out_;
+    std::string case_text_, directory_;
+    std::unique_ptr<Output> out_;
+    bool at_step_end_ = true; // false from the structure's offer (the wet faces moved) to the step's end
+    // The solver and the run's own records (the output's are Output::state).
+    void state(State& s) {
+        State solver = s.scope("solver");
+        solver_->state(solver);
+        s.io("next_frame", next_frame_);
+        s.io("history", history_);
+        s.io("work", work_);
+        s.io("wet_rows", wet_rows_);
+    }
     coupling::Offer offer_;
     double frame_interval_ = 0; // output.frame_interval (2D), 0: no frames
     int frame_stride_ = 1;      // cells per frame block along each axis
@@ -236,6 +282,7 @@ class FluidRun : public Run {
         g.time = solver_->time();
         g.p_floor = solver_->pressure_floor();
         g.output = s.output;
+        g.checkpoint = s.checkpoint;
         g.p_L = {w.p};
         g.u_L = {w.u};
         g.Z_L = {w.rho * a};
@@ -265,6 +312,7 @@ class FluidRun : public Run {
         g.time = solver_->time();
         g.p_floor = solver_->pressure_floor();
         g.output = s.output;
+        g.checkpoint = s.checkpoint;
         g.p_L.resize(n), g.u_L.resize(n), g.Z_L.resize(n), g.geometric.resize(n);
         for (size_t k = 0; k < n; ++k) {
             g.p_L[k] = w[k].p;
@@ -287,21 +335,21 @@ class FluidRun : public Run {
     }
     void write_history() {
         if (link_ && link_->wet()) {
-            out_.write_table("interface", {"t", "dt", "dt_f", "dt_s", "work", "total_work"}, history_);
-            out_.write_table("wet_nodes", {"t", "node", "face", "x", "y", "p_L", "u_L", "p_I", "u_I", "area"},
-                             wet_rows_);
+            out_->write_table("interface", {"t", "dt", "dt_f", "dt_s", "work", "total_work"}, history_);
+            out_->write_table("wet_nodes",
+                              {"t", "node", "face", "x", "y", "p_L", "u_L", "p_I", "u_I", "area"}, wet_rows_);
             return;
         }
         if (link_)
-            out_.write_table("interface",
-                             {"t", "dt", "p_L", "u_L", "Z_L", "p_I", "u_I", "displacement", "dt_f", "dt_s"},
-                             history_);
+            out_->write_table("interface",
+                              {"t", "dt", "p_L", "u_L", "Z_L", "p_I", "u_I", "displacement", "dt_f", "dt_s"},
+                              history_);
     }
 };
 
 } // namespace
 
-int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
+int run(const CaseFile& c, std::ostream& log, const std::string& couple, const std::string& resume) {
     validate(c); // first: the plan's output times are counted there before they are made
     const RunPlan p = plan(c);
     const bool coupled = coupled_case(c);
@@ -326,8 +374,16 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple) {
     if (m.dim == 2) log << " x " << m.ny;
     log << " cells, degree " << solver->degree() << ", " << threads << " thread(s), end time " << p.end_time
         << " s, output " << p.directory << "/fluid.h5" << std::endl;
-    auto link = coupled ? std::make_unique<StructureLink>(p, couple, *solver, log) : nullptr;
-    FluidRun r(c, p, std::move(solver), std::move(link));
+    std::optional<State> from;
+    coupling::Start start;
+    if (!resume.empty()) {
+        from.emplace(State::open(resume));
+        start.step = from->step(), start.time = from->time();
+        log << "undex-fluid: resuming from " << resume << " (step " << start.step
+            << ", t = " << format("%.9g", start.time) << " s)" << std::endl;
+    }
+    auto link = coupled ? std::make_unique<StructureLink>(p, couple, *solver, log, start) : nullptr;
+    FluidRun r(c, p, std::move(solver), std::move(link), from ? &*from : nullptr);
     return drive(r, p, "undex-fluid", log);
 }
 

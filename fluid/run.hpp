@@ -14,6 +14,7 @@ namespace undex::fluid {
 // or reached numerics.max_steps, 3 when the coupling failed, 4 when stopped by a signal (all after writing
 // the last good state). Throws CaseError for a bad case (before anything is written). A case with a
 // structure couples through the endpoint couple (the fluid binds it; docs/protocol.md).
-int run(const CaseFile& c, std::ostream& log, const std::string& couple = "");
+// resume: a checkpoint of this case to continue from (base/checkpoint.hpp), "" for a new run.
+int run(const CaseFile& c, std::ostream& log, const std::string& couple = "", const std::string& resume = "");
 
 } // namespace undex::fluid

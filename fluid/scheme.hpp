@@ -218,6 +218,26 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         return eos_;
     }
 
+    void state(State& s) override {
+        s.io("u", u_);
+        s.io("time", time_);
+        s.io("last_dt", last_dt_);
+        s.io("steps", steps_);
+        s.io("troubled_flag", troubled_flag_);
+        s.io("troubled", troubled_);
+        s.io("scaled", scaled_);
+        s.io("lo", lo_);
+        s.io("hi", hi_);
+        for (int k = 0; k < 4; ++k) { // the structure's interface state of a STRUCTURE side
+            s.io("bc" + std::to_string(k) + ".p_I", bc_[k].p_I);
+            s.io("bc" + std::to_string(k) + ".u_I", bc_[k].u_I);
+        }
+        s.io("layer_cell", layer_cell_);
+        s.io("layer_sigma", layer_sigma_);
+        s.io("layer_ref", layer_ref_);
+        s.io("sigma_max", sigma_max_);
+    }
+
     std::vector<double> coefficients() const override {
         std::vector<double> out(static_cast<long>(mesh_.nx) * mesh_.ny * NC);
         for (int j = 0; j < mesh_.ny; ++j)

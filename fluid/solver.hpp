@@ -1,6 +1,7 @@
 // The fluid solver's interface. One implementation per (dimension, degree, equation of state), chosen
 // once at set-up (setup.cpp); hot loops inside see concrete types only.
 #pragma once
+#include "base/checkpoint.hpp"
 #include "fluid/mesh.hpp"
 
 #include <array>
@@ -95,6 +96,10 @@ class FluidSolver {
     // Structure level set φ_s at the interior cell centres of a 2D run with a structure (index j·nx + i):
     // the signed distance to the nearest wet face, < 0 in the fluid; empty without a structure.
     virtual std::vector<double> structure_level_set() const { return {}; }
+    // Writes or reads (State::loading) everything a step reads that earlier steps wrote: a solver restored
+    // from a checkpoint continues bit for bit. Called on a solver made from the same case (and, in 2D with a
+    // structure, attached to the same wet nodes).
+    virtual void state(State& s) = 0;
 };
 
 // The fluid next to a wet node (physics.md §5.1): pressure, velocity along the node's normal, density and

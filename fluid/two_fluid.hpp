@@ -158,6 +158,17 @@ class TwoFluid final : public FluidSolver {
         plus_.set_coefficients(c, time);
     }
     std::vector<double> level_set() const override { return phi_.values(); }
+    void state(State& s) override {
+        State m = s.scope("minus"), p = s.scope("plus"), phi = s.scope("phi");
+        minus_.state(m);
+        plus_.state(p);
+        phi_.state(phi);
+        s.io("active_m", active_m_);
+        s.io("active_p", active_p_);
+        s.io("wx", wx_);
+        s.io("wy", wy_);
+        s.io("phi_before", phi_before_);
+    }
     void set_level_set(const std::vector<double>& phi) override {
         if (phi.size() != phi_.values().size()) throw std::runtime_error("level set does not match the mesh");
         for (int j = 0; j < mesh_.ny; ++j)

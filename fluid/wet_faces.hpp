@@ -160,6 +160,12 @@ class WetFaces {
         return {nx / len, ny / len};
     }
 
+    template <class S> void state(S& s) {
+        s.io("face", face_), s.io("begin", begin_), s.io("alpha", alpha_), s.io("sign", sign_);
+        s.io("x", x_), s.io("y", y_), s.io("snx", snx_), s.io("sny", sny_), s.io("area", area_);
+        s.io("nx", nx_), s.io("ny", ny_);
+    }
+
   private:
     std::vector<int> face_, begin_;
     int alpha_ = 0;

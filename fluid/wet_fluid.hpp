@@ -149,6 +149,29 @@ template <int K, class M> class WetFluid final : public WetSolver {
         interface_set_ = true;
     }
 
+    // After attach (the same wet nodes as the run that wrote the checkpoint): the faces where the structure
+    // put them, and per face its fluid, real cells, distances and ghost band.
+    void state(State& s) override {
+        if (sides_.empty()) {
+            State b = s.scope("base");
+            return base_->state(b);
+        }
+        State f = s.scope("faces");
+        faces_->state(f);
+        for (size_t k = 0; k < sides_.size(); ++k) {
+            Side& sd = *sides_[k];
+            State side = s.scope("side" + std::to_string(k)), scheme = side.scope("scheme");
+            sd.scheme->state(scheme);
+            side.io("mask", sd.mask);
+            side.io("phi", sd.phi);
+            side.io("near", sd.near);
+            side.io("ghosts", sd.ghosts);
+        }
+        s.io("p_I", p_I_);
+        s.io("u_I", u_I_);
+        s.io("interface_set", interface_set_);
+    }
+
     std::vector<double> structure_level_set() const override {
         if (sides_.empty()) return {};
         std::vector<double> out(cells());

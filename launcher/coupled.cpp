@@ -23,11 +23,12 @@ namespace undex::launcher {
 namespace {
 
 volatile std::sig_atomic_t interrupted = 0; // the SIGINT, SIGTERM or SIGHUP that arrived
+volatile std::sig_atomic_t interrupts = 0;  // how many
 
 // SIGINT, SIGTERM or SIGHUP to undex stops both sides (each runs in its own process group).
 void catch_stop_signals() {
     struct sigaction sa {};
-    sa.sa_handler = [](int sig) { interrupted = sig; };
+    sa.sa_handler = [](int sig) { interrupted = sig, ++interrupts; };
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
     sigaction(SIGHUP, &sa, nullptr);
@@ -60,18 +61,21 @@ std::vector<std::vector<std::string>> command_lines(const CoupledRun& r, const s
     std::vector<std::string> fluid = {r.fluid, r.case_path}, solid;
     fluid.insert(fluid.end(), r.solver_args.begin(), r.solver_args.end());
     fluid.insert(fluid.end(), {"--couple", endpoint});
+    if (!r.fluid_resume.empty()) fluid.insert(fluid.end(), {"--resume", r.fluid_resume});
     if (!r.command.empty())
         return {fluid,
                 {"/bin/sh", "-c", "exec " + r.command + " --couple " + coupling::shell_quote(endpoint)}};
     solid = {r.structure, r.case_path};
     solid.insert(solid.end(), r.solver_args.begin(), r.solver_args.end());
     solid.insert(solid.end(), {"--couple", endpoint});
+    if (!r.structure_resume.empty()) solid.insert(solid.end(), {"--resume", r.structure_resume});
     return {fluid, solid};
 }
 
 // Starts both sides (when the second cannot start, the first is killed) and opens their logs. Each learns
 // undex's pid and the path of its log (base/signals.hpp).
-void start(Child (&children)[2], const std::vector<std::vector<std::string>>& lines, const std::string& dir) {
+void start(Child (&children)[2], const std::vector<std::vector<std::string>>& lines, const std::string& dir,
+           bool resumed) {
     children[0].name = "fluid";
     children[1].name = "solid";
     try {
@@ -87,7 +91,7 @@ void start(Child (&children)[2], const std::vector<std::vector<std::string>>& li
         throw;
     }
     for (auto& ch : children) // opened after both started, so that neither inherits the other's log
-        ch.log.open(std::filesystem::path(dir) / (ch.name + ".log"));
+        ch.log.open(std::filesystem::path(dir) / (ch.name + ".log"), resumed ? std::ios::app : std::ios::out);
 }
 
 // Interleaves the output of both sides until both ended; when one side fails, the other gets a grace period
@@ -107,6 +111,11 @@ class Supervisor {
                 signal_all(hangup ? SIGHUP : SIGTERM);
                 passed_on_ = true;
                 if (!any_failed_) failed(1);
+            }
+            if (interrupts > 1 && stopped_ < 2) { // a second interrupt: no waiting for the checkpoints
+                std::cout << "undex: interrupted again: killing both sides" << std::endl;
+                signal_all(SIGKILL);
+                stopped_ = 2;
             }
             stop_the_other();
         }
@@ -137,10 +146,12 @@ class Supervisor {
                 if (!pump(ch_[which[i]])) open_[which[i]] = false, close(ch_[which[i]].fd);
     }
     // A side that is still running 5 s after the other failed is stopped (SIGTERM, and SIGKILL 3 s later for
-    // one that does not react, e.g. a stopped process).
+    // one that does not react, e.g. a stopped process). After an interrupt both sides finish their step and
+    // write a checkpoint: a side is killed 60 s after it.
     void stop_the_other() {
         const auto since = std::chrono::steady_clock::now() - failed_at_;
-        if (!any_failed_ || stopped_ >= 2 || since <= std::chrono::seconds(stopped_ == 0 ? 5 : 8)) return;
+        const auto grace = std::chrono::seconds(stopped_ == 0 ? 5 : passed_on_ ? 60 : 8);
+        if (!any_failed_ || stopped_ >= 2 || since <= grace) return;
         for (auto& c : ch_)
             if (!c.ended && stopped_ == 0)
                 std::cout << "undex: stopping " << c.name << " (the other side failed)" << std::endl;
@@ -178,7 +189,7 @@ int run_coupled(const CoupledRun& r) {
     Child children[2];
     std::cout << "undex: " << r.case_path << ": coupled run over " << endpoint << "; logs " << r.directory
               << "/fluid.log, " << r.directory << "/solid.log" << std::endl;
-    start(children, command_lines(r, endpoint), r.directory);
+    start(children, command_lines(r, endpoint), r.directory, !r.fluid_resume.empty());
     Supervisor(children).run();
     int code = 0;
     for (const auto& ch : children)

@@ -17,12 +17,15 @@ struct CoupledRun {
     std::string command;      // structure.command of the case (then no --set and -o are passed)
     std::string lock_command; // undex's command line, for the lock of the directory (base/run_lock.hpp)
     bool force = false;       // take over a stale lock
+    // undex run --resume: the checkpoints each side continues from (base/checkpoint.hpp); "" for a new run.
+    std::string fluid_resume, structure_resume;
 };
 
 // Locks DIR for the run (both sides share the lock), runs both sides, their output interleaved on stdout
 // (a closed stdout costs nothing) and kept in DIR/fluid.log and DIR/solid.log; when one side fails the other
 // is stopped after a grace period, as both are on SIGINT or SIGTERM (passed on as SIGTERM) or SIGHUP (passed
-// on as SIGHUP). Should undex die instead, both sides get SIGHUP (children.hpp). Returns the fluid's exit
+// on as SIGHUP): each then finishes its step and writes a checkpoint; a side still running 60 s later, or
+// at a second interrupt, is killed. Should undex die instead, both sides get SIGHUP (children.hpp). Returns the fluid's exit
 // status when it is not 0, else the structure's (128 + signal for a killed side).
 int run_coupled(const CoupledRun& r);
 

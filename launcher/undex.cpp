@@ -2,17 +2,20 @@
 // of a case, run it and sample their output; undex starts them (both sides of a coupled case) and reads
 // gauge series from HDF5.
 //   undex check CASE [--set key=value]... [-o DIR]   check a case without running it
-//   undex run CASE [--set key=value]... [-o DIR] [--tcp | --endpoint E] [--force]
+//   undex run CASE [--set key=value]... [-o DIR] [--tcp | --endpoint E] [--force] [--resume DIR]
 //                                                    run a case: the solver process a single-field case
 //                                                    needs, or the fluid and structure processes of a coupled
 //                                                    case; the output directory is locked for the run
-//                                                    (base/run_lock.hpp: --force takes over a stale lock)
+//                                                    (base/run_lock.hpp: --force takes over a stale lock);
+//                                                    --resume DIR continues the run in DIR from its
+//                                                    checkpoints (base/checkpoint.hpp)
 //   undex sample DIR --time T --line "x0,y0 x1,y1" --points N [--fields rho,u,v,p]   (undex-fluid --sample)
 //   undex gauges DIR [--name NAME]
 //   undex options                                    the named choices of a case file, from each solver
 //   undex conform [--timeout S] -- COMMAND...        check a structure solver against the protocol
 // Every command has --help; a command line undex cannot use exits with status 64, naming what is wrong.
 #include "base/case_file.hpp"
+#include "base/checkpoint.hpp"
 #include "base/exit_status.hpp"
 #include "base/run_lock.hpp"
 #include "base/run_plan.hpp"
@@ -30,6 +33,7 @@
 #include <iostream>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace {
@@ -87,7 +91,15 @@ int check(const CaseRequest& r) {
     return 0;
 }
 
-int run(const CaseRequest& r, const std::string& endpoint, bool tcp, bool force, const std::string& command) {
+int run(CaseRequest r, const std::string& endpoint, bool tcp, bool force, const std::string& command,
+        const std::string& resume) {
+    // --resume DIR is the run of CASE in DIR: its output directory.
+    if (!resume.empty()) {
+        if (!r.output.empty() && r.output != resume)
+            throw undex::UsageError("--resume " + resume + " continues the run in " + resume + ": -o " +
+                                    r.output + " names another directory");
+        r.output = resume;
+    }
     // The case is checked first, so that a bad case is reported before any process starts.
     const auto c = undex::CaseFile::load(r.path, r.overrides());
     check_parts(r, c);
@@ -105,6 +117,14 @@ int run(const CaseRequest& r, const std::string& endpoint, bool tcp, bool force,
                        command,
                        force};
         if (!st.has_command()) run.command.clear();
+        if (!resume.empty()) {
+            if (!run.command.empty())
+                throw undex::UsageError(
+                    "--resume: the case's structure.command is a solver undex cannot resume");
+            std::tie(run.fluid_resume, run.structure_resume) = undex::resume_pair(resume);
+            std::cout << "undex: resuming from " << run.fluid_resume << " and " << run.structure_resume
+                      << std::endl;
+        }
         return run_coupled(run);
     }
     // A single-field case needs only its own process, which takes undex's place and locks the directory.
@@ -112,6 +132,8 @@ int run(const CaseRequest& r, const std::string& endpoint, bool tcp, bool force,
     const auto more = r.solver_args();
     args.insert(args.end(), more.begin(), more.end());
     if (force) args.push_back("--force");
+    if (!resume.empty())
+        args.insert(args.end(), {"--resume", undex::resume_single(resume, fluid ? "fluid" : "solid")});
     return exec(args);
 }
 
@@ -131,6 +153,7 @@ struct Request {
     CaseRequest case_request;
     std::string endpoint;
     bool tcp = false, force = false;
+    std::string resume;                         // run --resume DIR
     std::string command_line;                   // undex's own, for the lock file
     std::string dir, time, line, fields, gauge; // sample, gauges
     int points = 0;
@@ -168,6 +191,11 @@ void describe(CLI::App& app, Request& r) {
         ->excludes(tcp);
     run->add_flag("--force", r.force,
                   "take over a stale lock of the output directory (left by a run that was killed)");
+    run->add_option("--resume", r.resume,
+                    "continue the run of CASE in DIR (its output directory) from the checkpoints there, "
+                    "with the same --set overrides")
+        ->type_name("DIR")
+        ->check(CLI::ExistingDirectory);
     add_sample(app, r);
     auto* gauges = app.add_subcommand("gauges", "print the gauge series of an output as CSV, time first");
     gauges->add_option("DIR", r.dir, "an output directory or its fluid.h5 / solid.h5")->required();
@@ -184,7 +212,7 @@ void describe(CLI::App& app, Request& r) {
 int dispatch(const CLI::App& app, const Request& r) {
     const std::string cmd = app.get_subcommands().front()->get_name();
     if (cmd == "check") return check(r.case_request);
-    if (cmd == "run") return run(r.case_request, r.endpoint, r.tcp, r.force, r.command_line);
+    if (cmd == "run") return run(r.case_request, r.endpoint, r.tcp, r.force, r.command_line, r.resume);
     if (cmd == "sample") {
         std::vector<std::string> args = {
             exe("undex-fluid"),      "--sample", r.dir, "--time", r.time, "--line", r.line, "--points",

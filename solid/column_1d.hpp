@@ -78,6 +78,11 @@ class Column1D : public Structure {
     double time() const override { return time_; }
     long steps() const override { return steps_; }
     const Energies& energies() const override { return en_; }
+    void state(State& s) override {
+        s.io("x", x_), s.io("u", u_), s.io("v", v_), s.io("a", a_), s.io("force", force_);
+        s.io("points", points_), s.io("energies", en_), s.io("time", time_), s.io("last_dt", last_dt_);
+        s.io("front_load", front_load_), s.io("back_load", back_load_), s.io("steps", steps_);
+    }
     std::string description() const override {
         return "1D column, " + std::to_string(elements_.size()) + " elements";
     }

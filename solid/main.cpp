@@ -65,8 +65,8 @@ int main(int argc, char** argv) {
     undex::SolverCommands commands;
     commands.name = "undex-solid";
     commands.description = "undex-solid: the explicit finite-element structure solver of undex";
-    commands.run = [](const undex::CaseFile& c, const std::string& couple) {
-        return undex::solid::run_structure(c, std::cout, couple);
+    commands.run = [](const undex::CaseFile& c, const std::string& couple, const std::string& resume) {
+        return undex::solid::run_structure(c, std::cout, couple, resume);
     };
     commands.check = check;
     commands.options = options;

@@ -20,6 +20,7 @@
 #include "base/run_driver.hpp"
 #include "base/run_plan.hpp"
 #include "base/signals.hpp"
+#include "base/solver_cli.hpp"
 #include "coupler/participant.hpp"
 #include "solid/interface_node.hpp"
 #include "solid/structure_setup.hpp"
@@ -84,7 +85,7 @@ class RigidRun : public Run {
     double time() const override { return t_; }
     long steps() const override { return n_; }
     bool owns_clock() const override { return false; }
-    std::optional<Step> next_step(const OutputClock&) override {
+    std::optional<Step> next_step(const OutputClock&, bool) override {
         if (m_.dimension == 2) {
             const size_t n = m_.x.size();
             if (!link_->exchange(
@@ -151,6 +152,7 @@ class RigidRun : public Run {
         out_.fail(why);
     }
     std::string output_path() const override { return out_.path(); }
+    std::string write_checkpoint() override { return ""; } // none: see run_rigid
     std::string summary(double) const override { return " (" + link_->stop_reason() + ")"; }
     bool coupling_error(const std::exception& e) const override {
         return dynamic_cast<const coupling::CouplingError*>(&e) != nullptr;
@@ -170,8 +172,11 @@ class RigidRun : public Run {
 
 } // namespace
 
-int run_rigid(const CaseFile& c, const std::string& couple) {
+int run_rigid(const CaseFile& c, const std::string& couple, const std::string& resume) {
     const RigidPlateModel m = make_rigid_plate(c);
+    if (!resume.empty())
+        throw UsageError("undex-rigid keeps no checkpoints (a run of a rigid plate takes seconds): run the "
+                         "case again instead of --resume");
     if (couple.empty())
         c.fail("structure.rigid_plate", "a rigid plate is driven by a fluid: run the case with `undex run`");
     const auto plan = undex::plan(c);

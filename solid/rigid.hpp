@@ -12,6 +12,7 @@ namespace undex::solid {
 
 // Runs the rigid plate of a case coupled to the fluid bound at couple; returns an exit status of
 // base/exit_status.hpp (after a failure, with the history so far written).
-int run_rigid(const CaseFile& c, const std::string& couple);
+// A rigid plate keeps no checkpoints: resume must be empty.
+int run_rigid(const CaseFile& c, const std::string& couple, const std::string& resume);
 
 } // namespace undex::solid

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <sstream>
@@ -49,6 +51,40 @@ class StructureOutput {
         h5::write_attr_string(g.id(), "columns", join(gauge_columns()));
         g.close();
         file_.flush();
+    }
+
+    // Resuming from a checkpoint: the existing solid.h5 as it was at the checkpoint (the outputs written
+    // after it deleted); the gauges are added, then restored by resume().
+    StructureOutput(const std::string& dir, const Structure& s)
+        : s_(s), file_(dir, "solid.h5", h5::OutputFile::Reopen{}) {}
+    void resume(State& st) {
+        state(st);
+        file_.delete_numbered("fields", count_);
+        write_tables(); // flushes the file
+        if (s_.dimension() == 2 && !snapshots_.empty()) write_xdmf(s_.state_fields());
+    }
+    // What a checkpoint holds of the output: the series so far and the outputs written.
+    void state(State& st) {
+        st.io("count", count_);
+        for (size_t k = 0; k < gauges_.size(); ++k)
+            st.io("gauge" + std::to_string(k), gauges_[k].series);
+        st.io("energies", energies_);
+        st.io("layer_energies", layer_energies_);
+        st.io("layer_count", layer_count_);
+        std::vector<int> number;
+        std::vector<double> time;
+        for (const auto& snap : snapshots_)
+            number.push_back(std::atoi(snap.group.c_str() + std::strlen("fields/"))),
+                time.push_back(snap.time);
+        st.io("snapshot_number", number);
+        st.io("snapshot_time", time);
+        if (!st.loading()) return;
+        snapshots_.clear();
+        for (size_t k = 0; k < number.size(); ++k) {
+            char name[32];
+            std::snprintf(name, sizeof name, "fields/%06d", number[k]);
+            snapshots_.push_back({name, time[k]});
+        }
     }
 
     // A gauge at (x, y) of the reference configuration (1D: x is the depth).
@@ -90,8 +126,8 @@ class StructureOutput {
     }
     void write_tables() {
         h5::write_table(file_.id(), "energies",
-                        {"t", "kinetic", "elastic", "plastic", "viscous", "hourglass", "external",
-                         "coupling", "balance_error"},
+                        {"t", "kinetic", "elastic", "plastic", "viscous", "hourglass", "external", "coupling",
+                         "balance_error"},
                         energies_);
         if (layer_count_ > 0) {
             std::vector<std::string> columns{"t"};
@@ -182,10 +218,21 @@ class StructureOutput {
 
 // The fluid, when a face is wet, through the coupling library: the Hello carries every wet node with its
 // face (docs/protocol.md).
+// A stop request (SIGINT, SIGTERM, SIGHUP) ends a wait of the coupling 1.5 s after it came: a Grant the fluid
+// sent meanwhile (it may be moving its wet faces when the signal comes) is taken and its step finished, so
+// that both sides stop at the end of one step and can be resumed from there.
+bool stop_wait() {
+    static std::optional<std::chrono::steady_clock::time_point> since;
+    if (!stop_requested()) return false;
+    const auto now = std::chrono::steady_clock::now();
+    if (!since) since = now;
+    return now - *since >= std::chrono::milliseconds(1500);
+}
+
 std::unique_ptr<coupling::StructureParticipant> connect(const CaseFile& c, const RunPlan& p,
                                                         const std::string& endpoint, const Structure& s,
-                                                        std::ostream& log) {
-    const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms, stop_requested};
+                                                        std::ostream& log, const coupling::Start& start) {
+    const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms, stop_wait};
     auto link = std::make_unique<coupling::StructureParticipant>(o, "undex-solid", "0.1.0");
     coupling::Interface i;
     i.dimension = s.dimension();
@@ -194,7 +241,7 @@ std::unique_ptr<coupling::StructureParticipant> connect(const CaseFile& c, const
         i.x.push_back(n.x), i.y.push_back(n.y), i.normal_x.push_back(n.normal_x);
         i.normal_y.push_back(n.normal_y), i.area.push_back(n.area), i.face.push_back(n.face);
     }
-    link->initialize(i);
+    link->initialize(i, start);
     log << "undex-solid: coupled to " << link->peer_solver() << " on " << endpoint << std::endl;
     return link;
 }
@@ -202,23 +249,37 @@ std::unique_ptr<coupling::StructureParticipant> connect(const CaseFile& c, const
 // A structure run for the driver (base/run_driver.hpp): alone on the plan's clock, or coupled on the fluid's.
 class StructureRun : public Run {
   public:
+    // A new run (resume: nothing), or one continued from a checkpoint (the model restored here).
     StructureRun(const CaseFile& c, const RunPlan& p, StructureModel& m,
-                 std::unique_ptr<coupling::StructureParticipant> link)
-        : m_(m), s_(*m.structure), link_(std::move(link)), out_(p.directory, c.text(), s_, m.layers) {
+                 std::unique_ptr<coupling::StructureParticipant> link, State* resume)
+        : m_(m), s_(*m.structure), link_(std::move(link)), case_text_(c.text()), directory_(p.directory) {
+        out_ = resume ? std::make_unique<StructureOutput>(p.directory, s_)
+                      : std::make_unique<StructureOutput>(p.directory, c.text(), s_, m.layers);
         // A 2D gauge's y is its depth from the front face, which lies at plate.y_front.
         const auto& st = c.get().structure();
         for (const auto& g : st.gauges())
-            out_.add_gauge(g.name(), g.x(), st.plate().y_front() + g.y());
-        out_.record();
-        out_.write_fields();
+            out_->add_gauge(g.name(), g.x(), st.plate().y_front() + g.y());
+        if (resume) {
+            State model = resume->scope("model"), run = resume->scope("run"), out = resume->scope("output");
+            s_.state(model);
+            run.io("history", history_);
+            out_->resume(out);
+            return;
+        }
+        out_->record();
+        out_->write_fields();
     }
 
     double time() const override { return s_.time(); }
     long steps() const override { return s_.steps(); }
     bool owns_clock() const override { return !link_; } // the fluid owns the clock of a coupled run
 
-    std::optional<Step> next_step(const OutputClock& clock) override {
-        if (!link_) return clock.clip(time(), m_.dt);
+    std::optional<Step> next_step(const OutputClock& clock, bool checkpoint_due) override {
+        if (!link_) {
+            Step s = clock.clip(time(), m_.dt);
+            s.checkpoint = checkpoint_due;
+            return s;
+        }
         // The fluid grants the step and asks for outputs; a Stop ends the run.
         coupling::Offer o;
         o.dt = m_.dt;
@@ -230,10 +291,11 @@ class StructureRun : public Run {
         fluid_.resize(grant_.p_L.size());
         for (size_t k = 0; k < fluid_.size(); ++k)
             fluid_[k] = {grant_.p_L[k], grant_.u_L[k], grant_.Z_L[k], grant_.geometric[k], grant_.p_floor};
-        return Step{grant_.dt, grant_.output};
+        return Step{grant_.dt, grant_.output, grant_.checkpoint};
     }
 
     void advance(const Step& s) override {
+        at_step_end_ = false; // until the answer is sent
         std::vector<InterfaceSolution> wet;
         const double t = s_.time(); // recorded as it was, bit for bit the Grant's time
         const auto start = std::chrono::steady_clock::now();
@@ -243,6 +305,7 @@ class StructureRun : public Run {
             throw RunFailure(exit_method_failed, f.what());
         }
         step_wall_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        at_step_end_ = !link_;
         if (!link_) return;
         coupling::Answer a;
         for (size_t k = 0; k < wet.size(); ++k) {
@@ -252,8 +315,26 @@ class StructureRun : public Run {
         for (const WetNode& n : s_.wet_nodes())
             a.x.push_back(n.x), a.y.push_back(n.y);
         link_->answer(a);
+        at_step_end_ = true;
     }
-    void record() override { out_.record(); }
+    bool at_step_end() const override { return at_step_end_; }
+    std::string write_checkpoint() override {
+        State st = State::create(directory_, "solid", steps(), time(), case_text_);
+        State model = st.scope("model"), run = st.scope("run"), out = st.scope("output");
+        s_.state(model);
+        run.io("history", history_);
+        if (link_) {
+            // The link's step once the step is taken (it counts the next one while waiting for its Grant).
+            coupling::Start at = link_->position();
+            at.step = steps();
+            run.io("link_step", at.step), run.io("link_time", at.time),
+                run.io("link_after_short", at.after_short);
+        }
+        out_->state(out);
+        st.commit();
+        return checkpoint_path(directory_, "solid");
+    }
+    void record() override { out_->record(); }
     void write_output() override {
         // The fluid's wait restarts: an output may take a while (a heartbeat before it and between its
         // datasets, at most once a second).
@@ -262,22 +343,22 @@ class StructureRun : public Run {
             link_->heartbeat();
             keep_waiting.emplace([this] { link_->heartbeat(); }, 1.0);
         }
-        out_.write_fields();
+        out_->write_fields();
         write_history();
     }
     void complete() override {
-        out_.write_tables();
+        out_->write_tables();
         write_history();
-        out_.file().complete();
+        out_->file().complete();
     }
     void fail(const std::string& why) override {
         if (link_) link_->fail(why); // best effort: the peer learns the cause
-        out_.file().fail(why, [&] {
-            out_.write_fields(true);
+        out_->file().fail(why, [&] {
+            out_->write_fields(true);
             write_history();
         });
     }
-    std::string output_path() const override { return out_.file().path(); }
+    std::string output_path() const override { return out_->file().path(); }
     std::string progress() const override {
         const Energies& e = s_.energies();
         return "  energy balance error " + format("%.2e", e.balance_error() / std::max(e.external, 1e-300));
@@ -295,18 +376,21 @@ class StructureRun : public Run {
     StructureModel& m_;
     Structure& s_;
     std::unique_ptr<coupling::StructureParticipant> link_;
-    StructureOutput out_;
+    std::string case_text_, directory_;
+    std::unique_ptr<StructureOutput> out_;
+    bool at_step_end_ = true; // false while a step is being taken
     coupling::Grant grant_;
     std::vector<FluidCharacteristic> fluid_; // at each wet node, for the step granted
     std::vector<double> history_;            // t, dt, p_I, u_I, dt_s per coupled step and wet node
     void write_history() {
-        if (link_) out_.file().write_table("coupling", {"t", "dt", "p_I", "u_I", "dt_s"}, history_);
+        if (link_) out_->file().write_table("coupling", {"t", "dt", "p_I", "u_I", "dt_s"}, history_);
     }
 };
 
 } // namespace
 
-int run_structure(const CaseFile& c, std::ostream& log, const std::string& couple) {
+int run_structure(const CaseFile& c, std::ostream& log, const std::string& couple,
+                  const std::string& resume) {
     StructureModel model = make_structure(c); // checks the whole structure part first
     const auto p = plan(c);
     if (model.wet && couple.empty())
@@ -324,8 +408,20 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
     log << "undex-solid: " << c.path() << ": " << model.structure->description() << ", " << threads
         << " thread(s), time step " << format("%.4g", model.dt) << " s, end time " << p.end_time
         << " s, output " << p.directory << "/solid.h5" << std::endl;
-    auto link = model.wet ? connect(c, p, couple, *model.structure, log) : nullptr;
-    StructureRun r(c, p, model, std::move(link));
+    std::optional<State> from;
+    coupling::Start start;
+    if (!resume.empty()) {
+        from.emplace(State::open(resume));
+        log << "undex-solid: resuming from " << resume << " (step " << from->step()
+            << ", t = " << format("%.9g", from->time()) << " s)" << std::endl;
+        if (model.wet) {
+            State run = from->scope("run");
+            run.io("link_step", start.step), run.io("link_time", start.time);
+            run.io("link_after_short", start.after_short);
+        }
+    }
+    auto link = model.wet ? connect(c, p, couple, *model.structure, log, start) : nullptr;
+    StructureRun r(c, p, model, std::move(link), from ? &*from : nullptr);
     return drive(r, p, "undex-solid", log);
 }
 

@@ -35,6 +35,8 @@ namespace undex::solid {
 //   /coupling       t, dt, p_I, u_I, dt_s (the step offered) of every step and wet node of a run coupled to a
 //                   fluid (a FLUID face) through the endpoint couple (the fluid binds it; docs/protocol.md)
 // Returns an exit status of base/exit_status.hpp (after a failure, with the last good state written).
-int run_structure(const CaseFile& c, std::ostream& log, const std::string& couple = "");
+// resume: a checkpoint of this case to continue from (base/checkpoint.hpp), "" for a new run.
+int run_structure(const CaseFile& c, std::ostream& log, const std::string& couple = "",
+                  const std::string& resume = "");
 
 } // namespace undex::solid

@@ -4,6 +4,7 @@
 // which model it is. Adding a model: implement this interface in one file and build it in
 // solid/structure_setup.cpp (docs/architecture.md).
 #pragma once
+#include "base/checkpoint.hpp"
 #include "solid/interface_node.hpp"
 #include "solid/material.hpp"
 
@@ -71,6 +72,10 @@ class Structure {
     virtual std::vector<std::string> gauge_columns() const = 0; // after t
     virtual GaugeSite locate(double x, double y) const = 0;     // in the reference configuration
     virtual void gauge_values(const GaugeSite& g, std::vector<double>& row) const = 0; // appended to row
+    // Writes or reads (State::loading) everything a step reads that earlier steps wrote (the nodes' motion,
+    // the half-step velocities, the points' stresses and internal variables, the energies, the clock): a
+    // model restored from a checkpoint on one made from the same case continues bit for bit.
+    virtual void state(State& s) = 0;
 };
 
 } // namespace undex::solid

@@ -1,0 +1,174 @@
+#include "base/checkpoint.hpp"
+
+#include "base/h5.hpp"
+
+#include <filesystem>
+#include <stdexcept>
+
+namespace undex {
+
+namespace {
+// The build's sizes, so that a checkpoint of another build is refused instead of misread.
+std::string layout() {
+    return "long " + std::to_string(sizeof(long)) + ", double " + std::to_string(sizeof(double)) +
+           ", pointer " + std::to_string(sizeof(void*));
+}
+} // namespace
+
+struct State::File {
+    h5::Object file;
+    std::string path, final_path;
+    bool loading = false;
+    long step = 0;
+    double time = 0;
+};
+
+std::string checkpoint_path(const std::string& directory, const std::string& side, bool previous) {
+    return (std::filesystem::path(directory) / (side + (previous ? ".checkpoint.prev.h5" : ".checkpoint.h5")))
+        .string();
+}
+
+State State::create(const std::string& directory, const std::string& side, long step, double time,
+                    const std::string& case_text) {
+    auto f = std::make_shared<File>();
+    f->final_path = checkpoint_path(directory, side);
+    f->path = f->final_path + ".tmp";
+    f->step = step, f->time = time;
+    const hid_t id = H5Fcreate(f->path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (id < 0) throw h5::Error(f->path + ": cannot create the checkpoint: " + h5::cause());
+    f->file = h5::Object(id, H5Fclose, -1, f->path, "");
+    h5::write_attr_string(id, "side", side);
+    h5::write_attr_string(id, "layout", layout());
+    h5::write_attr<long>(id, "step", step);
+    h5::write_attr<double>(id, "time", time);
+    h5::write_text(id, "case", case_text);
+    return State(std::move(f), "");
+}
+
+State State::open(const std::string& path) {
+    auto f = std::make_shared<File>();
+    f->path = path;
+    f->loading = true;
+    f->file = h5::open_read(path);
+    const hid_t id = f->file.id();
+    if (h5::read_attr_string(id, "layout") != layout())
+        throw std::runtime_error(path + ": the checkpoint was written by a build with other sizes (" +
+                                 h5::read_attr_string(id, "layout") + "; this build: " + layout() + ")");
+    f->step = static_cast<long>(h5::read_attr_double(id, "step"));
+    f->time = h5::read_attr_double(id, "time");
+    return State(std::move(f), "");
+}
+
+bool State::loading() const {
+    return file_->loading;
+}
+long State::step() const {
+    return file_->step;
+}
+double State::time() const {
+    return file_->time;
+}
+const std::string& State::path() const {
+    return file_->path;
+}
+std::string State::case_text() const {
+    return h5::read_text(file_->file.id(), "case");
+}
+
+State State::scope(const std::string& prefix) const {
+    return State(file_, prefix_.empty() ? prefix : prefix_ + "." + prefix);
+}
+
+void State::write_bytes(const std::string& name, const void* data, size_t bytes) {
+    const std::string full = prefix_.empty() ? name : prefix_ + "." + name;
+    const hid_t loc = file_->file.id();
+    const hsize_t dims[1] = {bytes};
+    h5::Object space(H5Screate_simple(1, dims, nullptr), H5Sclose, loc, full, "make the dataspace of");
+    h5::Object set(
+        H5Dcreate2(loc, full.c_str(), H5T_NATIVE_UCHAR, space.id(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+        H5Dclose, loc, full, "create the dataset");
+    if (bytes > 0)
+        h5::check(H5Dwrite(set.id(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), loc, full,
+                  "write the dataset");
+    set.close("write the dataset");
+}
+
+std::vector<unsigned char> State::read_bytes(const std::string& name, size_t unit) const {
+    const std::string full = prefix_.empty() ? name : prefix_ + "." + name;
+    const hid_t loc = file_->file.id();
+    if (h5::check(H5Lexists(loc, full.c_str(), H5P_DEFAULT), loc, full, "look up") <= 0)
+        throw std::runtime_error(file_->path + ": the checkpoint holds no " + full +
+                                 " (written by another version of the solver?)");
+    h5::Object set(H5Dopen2(loc, full.c_str(), H5P_DEFAULT), H5Dclose, loc, full, "open the dataset");
+    h5::Object space(H5Dget_space(set.id()), H5Sclose, loc, full, "read the dataspace of");
+    const hssize_t n = H5Sget_simple_extent_npoints(space.id());
+    if (n < 0) h5::fail(loc, full, "read the size of");
+    std::vector<unsigned char> bytes(static_cast<size_t>(n));
+    if (bytes.size() % unit != 0) wrong_size(full, bytes.size(), unit);
+    if (!bytes.empty())
+        h5::check(H5Dread(set.id(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.data()), loc, full,
+                  "read the dataset");
+    return bytes;
+}
+
+void State::wrong_size(const std::string& name, size_t got, size_t want) const {
+    throw std::runtime_error(file_->path + ": " + name + " holds " + std::to_string(got) +
+                             " bytes, not a multiple of " + std::to_string(want) + " (another version?)");
+}
+
+void State::commit() {
+    file_->file.close("write the checkpoint");
+    std::error_code e;
+    if (std::filesystem::exists(file_->final_path)) {
+        const std::string prev = file_->final_path.substr(0, file_->final_path.size() - 3) + ".prev.h5";
+        std::filesystem::rename(file_->final_path, prev, e);
+        if (e) throw h5::Error(file_->final_path + ": cannot keep it as " + prev + ": " + e.message());
+    }
+    std::filesystem::rename(file_->path, file_->final_path, e);
+    if (e) throw h5::Error(file_->path + ": cannot rename it to " + file_->final_path + ": " + e.message());
+}
+
+namespace {
+
+// The step of each checkpoint of side in dir, newest first (a file that cannot be read is skipped, and
+// named in `found`).
+std::vector<std::pair<long, std::string>> steps_of(const std::string& dir, const std::string& side,
+                                                   std::string& found) {
+    std::vector<std::pair<long, std::string>> out;
+    for (bool previous : {false, true}) {
+        const std::string p = checkpoint_path(dir, side, previous);
+        if (!std::filesystem::exists(p)) continue;
+        try {
+            const State s = State::open(p);
+            out.emplace_back(s.step(), p);
+            found += "\n  " + p + ": step " + std::to_string(s.step()) + ", t = " + std::to_string(s.time()) +
+                     " s";
+        } catch (const std::exception& e) {
+            found += "\n  " + p + ": unreadable (" + e.what() + ")";
+        }
+    }
+    return out;
+}
+
+} // namespace
+
+std::string resume_single(const std::string& directory, const std::string& side) {
+    std::string found;
+    const auto s = steps_of(directory, side, found);
+    if (s.empty())
+        throw std::runtime_error(directory + ": no checkpoint to resume from (" +
+                                 checkpoint_path(directory, side) + ")" + found);
+    return s.front().second;
+}
+
+std::pair<std::string, std::string> resume_pair(const std::string& directory) {
+    std::string found;
+    const auto f = steps_of(directory, "fluid", found), s = steps_of(directory, "solid", found);
+    for (const auto& a : f)
+        for (const auto& b : s)
+            if (a.first == b.first) return {a.second, b.second};
+    throw std::runtime_error(directory + ": no checkpoints of the fluid and the structure at the same step" +
+                             (found.empty() ? std::string(" (none at all)") : ":" + found));
+}
+
+} // namespace undex
