@@ -18,9 +18,16 @@ std::string layout() {
 struct State::File {
     h5::Object file;
     std::string path, final_path;
-    bool loading = false;
+    bool loading = false, committed = false;
     long step = 0;
     double time = 0;
+    // A checkpoint given up on the way (a full disk) leaves nothing: the one before stays in place.
+    ~File() {
+        if (loading || committed) return;
+        file = h5::Object(); // closed, errors ignored
+        std::error_code ignored;
+        std::filesystem::remove(path, ignored);
+    }
 };
 
 std::string checkpoint_path(const std::string& directory, const std::string& side, bool previous) {
@@ -126,6 +133,7 @@ void State::commit() {
     }
     std::filesystem::rename(file_->path, file_->final_path, e);
     if (e) throw h5::Error(file_->path + ": cannot rename it to " + file_->final_path + ": " + e.message());
+    file_->committed = true;
 }
 
 namespace {

@@ -94,7 +94,14 @@ void step_to_end(Run& run, const RunPlan& plan, const std::string& name, std::os
             clock.passed();
         }
         if (s->checkpoint) {
-            checkpoint(run, name, log);
+            // A checkpoint that cannot be written (a full disk) costs the run nothing but the checkpoint: the
+            // one before stays, and a coupled partner's newer one is passed over by --resume.
+            try {
+                checkpoint(run, name, log);
+            } catch (const std::exception& e) {
+                log << name << ": error: the checkpoint at step " << run.steps()
+                    << " could not be written (the run goes on; the last one stays): " << e.what() << std::endl;
+            }
             last_checkpoint = Clock::now();
         }
         const auto now = Clock::now();

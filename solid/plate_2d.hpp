@@ -210,8 +210,8 @@ class Plate2D : public Structure {
         s.io("ux", ux_), s.io("uy", uy_), s.io("vx", vx_), s.io("vy", vy_), s.io("ax", ax_), s.io("ay", ay_);
         s.io("wx", wx_), s.io("wy", wy_), s.io("dux", dux_), s.io("duy", duy_), s.io("points", points_);
         s.io("efx", efx_), s.io("efy", efy_), s.io("ehg", ehg_);
-        s.io("wet_fx", wet_fx_), s.io("wet_fy", wet_fy_), s.io("other_fx", other_fx_),
-            s.io("other_fy", other_fy_);
+        s.io("wet_fx", wet_fx_), s.io("wet_fy", wet_fy_);
+        s.io("other_fx", other_fx_), s.io("other_fy", other_fy_);
         s.io("energies", en_), s.io("time", time_), s.io("last_dt", last_dt_), s.io("steps", steps_);
         s.io("e_internal", e_internal_), s.io("e_plastic", e_plastic_), s.io("e_viscous", e_viscous_);
         s.io("q", q_), s.io("rate_v", rate_v_);
@@ -344,7 +344,7 @@ class Plate2D : public Structure {
             duy_[i] = dt * (cy_[i] ? vy_[i] : vy_[i] + h * ay_[i]);
         }
         std::vector<InterfaceSolution> out;
-        std::vector<double> load_x, load_y;   // A_k p_I n_k, kept once the step is good
+        std::vector<double> load_x, load_y; // A_k p_I n_k, kept once the step is good
         double fluid_work = 0, delivered = 0; // the load's work after the fluid and after the update
         if (fluid) {
             const auto w = wet_nodes(); // areas and normals of the start of the step
@@ -435,8 +435,7 @@ class Plate2D : public Structure {
                     const MaterialLaw& law = *laws_[law_of_[e]];
                     const double L = std::sqrt(s.area), rho = 4 * mshare_[e] / V;
                     const double c = std::sqrt(law.wave_modulus() / law.density());
-                    q = rho * L *
-                        (bulk_.quadratic * bulk_.quadratic * L * rate * rate - bulk_.linear * c * rate);
+                    q = rho * L * (bulk_.quadratic * bulk_.quadratic * L * rate * rate - bulk_.linear * c * rate);
                 }
                 const double dq = -0.5 * (q_[e] + q) * dv * V;
                 viscous += dq;
@@ -597,8 +596,8 @@ class Plate2D : public Structure {
     Energies en_;
     double time_ = 0, last_dt_ = 0;
     std::vector<double> e_internal_, e_plastic_; // per element, accumulated like en_
-    std::vector<double> e_viscous_;              // per element: the bulk viscosity's work
-    std::vector<double> q_, rate_v_;             // per element: bulk viscosity pressure, volumetric rate
+    std::vector<double> e_viscous_;               // per element: the bulk viscosity's work
+    std::vector<double> q_, rate_v_;              // per element: bulk viscosity pressure, volumetric rate
     std::vector<double> mshare_;                 // per element: the mass it lumps to each of its nodes
     long steps_ = 0;
 
