@@ -2,6 +2,9 @@
 
 #include "base/h5.hpp"
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 
@@ -17,7 +20,7 @@ std::string layout() {
 
 struct State::File {
     h5::Object file;
-    std::string path, final_path;
+    std::string path, final_path, directory, side, partner;
     bool loading = false, committed = false;
     long step = 0;
     double time = 0;
@@ -30,15 +33,44 @@ struct State::File {
     }
 };
 
-std::string checkpoint_path(const std::string& directory, const std::string& side, bool previous) {
-    return (std::filesystem::path(directory) / (side + (previous ? ".checkpoint.prev.h5" : ".checkpoint.h5")))
-        .string();
+namespace {
+
+std::string name_of(const std::string& side, long step) {
+    char n[64];
+    std::snprintf(n, sizeof n, "%s.checkpoint.%09ld.h5", side.c_str(), step);
+    return n;
 }
 
-State State::create(const std::string& directory, const std::string& side, long step, double time,
-                    const std::string& case_text) {
+} // namespace
+
+std::vector<std::pair<long, std::string>> checkpoints(const std::string& directory, const std::string& side) {
+    std::vector<std::pair<long, std::string>> out;
+    std::error_code e;
+    const std::string head = side + ".checkpoint.";
+    for (const auto& entry : std::filesystem::directory_iterator(directory, e)) {
+        const std::string n = entry.path().filename().string();
+        if (n.size() != head.size() + 12 || n.compare(0, head.size(), head) != 0 || n.substr(n.size() - 3) != ".h5")
+            continue;
+        char* end = nullptr;
+        const long step = std::strtol(n.c_str() + head.size(), &end, 10);
+        if (end == n.c_str() + head.size() + 9) out.emplace_back(step, entry.path().string());
+    }
+    std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    return out;
+}
+
+void remove_checkpoints(const std::string& directory, const std::string& side) {
+    for (const auto& c : checkpoints(directory, side)) {
+        std::error_code ignored;
+        std::filesystem::remove(c.second, ignored);
+    }
+}
+
+State State::create(const std::string& directory, const std::string& side, const std::string& partner, long step,
+                    double time, const std::string& case_text) {
     auto f = std::make_shared<File>();
-    f->final_path = checkpoint_path(directory, side);
+    f->directory = directory, f->side = side, f->partner = partner;
+    f->final_path = (std::filesystem::path(directory) / name_of(side, step)).string();
     f->path = f->final_path + ".tmp";
     f->step = step, f->time = time;
     const hid_t id = H5Fcreate(f->path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
@@ -52,12 +84,15 @@ State State::create(const std::string& directory, const std::string& side, long 
     return State(std::move(f), "");
 }
 
-State State::open(const std::string& path) {
+State State::open(const std::string& path, const std::string& side) {
     auto f = std::make_shared<File>();
     f->path = path;
     f->loading = true;
     f->file = h5::open_read(path);
     const hid_t id = f->file.id();
+    if (!side.empty() && h5::read_attr_string(id, "side") != side)
+        throw std::runtime_error(path + ": a checkpoint of the " + h5::read_attr_string(id, "side") +
+                                 " side, not of the " + side);
     if (h5::read_attr_string(id, "layout") != layout())
         throw std::runtime_error(path + ": the checkpoint was written by a build with other sizes (" +
                                  h5::read_attr_string(id, "layout") + "; this build: " + layout() + ")");
@@ -98,6 +133,7 @@ void State::write_bytes(const std::string& name, const void* data, size_t bytes)
         h5::check(H5Dwrite(set.id(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), loc, full,
                   "write the dataset");
     set.close("write the dataset");
+    h5::after_write(); // a coupled side's heartbeat (fluid/run.cpp, solid/run_structure.cpp)
 }
 
 std::vector<unsigned char> State::read_bytes(const std::string& name, size_t unit) const {
@@ -123,60 +159,58 @@ void State::wrong_size(const std::string& name, size_t got, size_t want) const {
                              " bytes, not a multiple of " + std::to_string(want) + " (another version?)");
 }
 
-void State::commit() {
+std::string State::commit() {
     file_->file.close("write the checkpoint");
     std::error_code e;
-    if (std::filesystem::exists(file_->final_path)) {
-        const std::string prev = file_->final_path.substr(0, file_->final_path.size() - 3) + ".prev.h5";
-        std::filesystem::rename(file_->final_path, prev, e);
-        if (e) throw h5::Error(file_->final_path + ": cannot keep it as " + prev + ": " + e.message());
-    }
     std::filesystem::rename(file_->path, file_->final_path, e);
     if (e) throw h5::Error(file_->path + ": cannot rename it to " + file_->final_path + ": " + e.message());
     file_->committed = true;
+    // Kept besides this one: the newest step the partner also holds, else (alone, or no such step) the one
+    // before.
+    const auto own = checkpoints(file_->directory, file_->side);
+    const auto theirs = file_->partner.empty() ? decltype(own){} : checkpoints(file_->directory, file_->partner);
+    long keep = -1;
+    for (const auto& a : own)
+        if (a.first != file_->step && std::any_of(theirs.begin(), theirs.end(), [&](const auto& b) { return b.first == a.first; })) {
+            keep = a.first;
+            break;
+        }
+    if (keep < 0)
+        for (const auto& a : own)
+            if (a.first != file_->step) {
+                keep = a.first;
+                break;
+            }
+    for (const auto& a : own)
+        if (a.first != file_->step && a.first != keep) std::filesystem::remove(a.second, e);
+    return file_->final_path;
 }
 
 namespace {
 
-// The step of each checkpoint of side in dir, newest first (a file that cannot be read is skipped, and
-// named in `found`).
-std::vector<std::pair<long, std::string>> steps_of(const std::string& dir, const std::string& side,
-                                                   std::string& found) {
-    std::vector<std::pair<long, std::string>> out;
-    for (bool previous : {false, true}) {
-        const std::string p = checkpoint_path(dir, side, previous);
-        if (!std::filesystem::exists(p)) continue;
-        try {
-            const State s = State::open(p);
-            out.emplace_back(s.step(), p);
-            found += "\n  " + p + ": step " + std::to_string(s.step()) + ", t = " + std::to_string(s.time()) +
-                     " s";
-        } catch (const std::exception& e) {
-            found += "\n  " + p + ": unreadable (" + e.what() + ")";
-        }
-    }
-    return out;
+// What DIR holds, for a message.
+std::string listing(const std::string& dir, const std::vector<std::pair<long, std::string>>& files) {
+    std::string found;
+    for (const auto& f : files)
+        found += "\n  " + f.second + ": step " + std::to_string(f.first);
+    return found.empty() ? " (none in " + dir + ")" : ":" + found;
 }
 
 } // namespace
 
 std::string resume_single(const std::string& directory, const std::string& side) {
-    std::string found;
-    const auto s = steps_of(directory, side, found);
-    if (s.empty())
-        throw std::runtime_error(directory + ": no checkpoint to resume from (" +
-                                 checkpoint_path(directory, side) + ")" + found);
+    const auto s = checkpoints(directory, side);
+    if (s.empty()) throw std::runtime_error(directory + ": no checkpoint of the " + side + " to resume from");
     return s.front().second;
 }
 
 std::pair<std::string, std::string> resume_pair(const std::string& directory) {
-    std::string found;
-    const auto f = steps_of(directory, "fluid", found), s = steps_of(directory, "solid", found);
+    const auto f = checkpoints(directory, "fluid"), s = checkpoints(directory, "solid");
     for (const auto& a : f)
         for (const auto& b : s)
             if (a.first == b.first) return {a.second, b.second};
     throw std::runtime_error(directory + ": no checkpoints of the fluid and the structure at the same step" +
-                             (found.empty() ? std::string(" (none at all)") : ":" + found));
+                             listing(directory, f) + listing(directory, s));
 }
 
 } // namespace undex

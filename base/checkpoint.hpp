@@ -1,16 +1,18 @@
 // Checkpoints: the whole state of one side of a run (the fluid, the structure) at the end of a step, enough
 // to continue it bit for bit (`undex run CASE --resume DIR`, docs/protocol.md "Checkpoints").
 //
-// A side writes DIR/SIDE.checkpoint.h5 (SIDE: fluid or solid) every output.checkpoint_seconds of wall time,
-// at a step the two sides of a coupled run agree on (the fluid's Grant asks for it), and when a signal stops
-// it at the end of a step. The file is written as DIR/SIDE.checkpoint.h5.tmp and renamed; the one it replaces
-// becomes DIR/SIDE.checkpoint.prev.h5, so that a stop that leaves the two sides' newest checkpoints at
-// different steps still leaves a pair at one step (resume_pair).
+// A side writes DIR/SIDE.checkpoint.STEP.h5 (SIDE: fluid or solid, STEP its step, 9 digits) every
+// output.checkpoint_seconds of wall time, at a step the two sides of a coupled run agree on (the fluid's
+// Grant asks for it), and when a signal stops it at the end of a step. A file is written as .tmp and renamed
+// once complete. Of its older ones a side keeps the newest step its partner also holds (or, alone, its one
+// before): however the two sides' writes fall (one killed while it writes, one whose disk is full), a pair at
+// one step stays for resume_pair, and at most two files per side.
 //
-// Layout: attributes side, step, time; the dataset case (the case text after overrides: a resume must give
-// the same); then one dataset per piece of state, named by its owner's path ("solver.side0.minus.u"), raw
-// bytes of trivially copyable values. A checkpoint is read back only by the build that wrote it: the
-// attribute layout names the build's sizes of long and double, and every piece is checked for presence.
+// Layout: attributes side, layout, step, time; the dataset case (the case text after overrides: a resume
+// must give the same); then one dataset per piece of state, named by its owner's path
+// ("solver.side0.minus.u"), raw bytes of trivially copyable values. A checkpoint is read back by the build
+// that wrote it: the attribute layout names the build's sizes, and every piece is checked for presence and
+// size.
 #pragma once
 #include <cstdint>
 #include <cstring>
@@ -25,11 +27,13 @@ namespace undex {
 // Throws std::runtime_error naming the file, the piece and the cause.
 class State {
   public:
-    // A new checkpoint of `side` at `step` and `time` in `directory` (written as .tmp until commit()).
-    static State create(const std::string& directory, const std::string& side, long step, double time,
-                        const std::string& case_text);
-    // A checkpoint to read (its path).
-    static State open(const std::string& path);
+    // A new checkpoint of `side` at `step` and `time` in `directory` (written as .tmp until commit());
+    // partner: the other side of a coupled run ("fluid" or "solid"; "" alone), whose files set which of this
+    // side's older ones are kept.
+    static State create(const std::string& directory, const std::string& side, const std::string& partner,
+                        long step, double time, const std::string& case_text);
+    // A checkpoint to read (its path); side: the side it must be of ("" any).
+    static State open(const std::string& path, const std::string& side = "");
 
     bool loading() const;
     long step() const;
@@ -62,8 +66,8 @@ class State {
         }
     }
 
-    // Writing: closes the file and renames it into place (the older one becomes .prev).
-    void commit();
+    // Writing: closes the file, renames it into place and removes what is no longer kept; returns its path.
+    std::string commit();
 
   private:
     struct File;
@@ -75,8 +79,10 @@ class State {
     std::string prefix_;
 };
 
-// DIR/SIDE.checkpoint.h5 and DIR/SIDE.checkpoint.prev.h5.
-std::string checkpoint_path(const std::string& directory, const std::string& side, bool previous = false);
+// The checkpoints of side in directory, newest first: (step, path).
+std::vector<std::pair<long, std::string>> checkpoints(const std::string& directory, const std::string& side);
+// Removes them (a new run in the directory; a run that completed).
+void remove_checkpoints(const std::string& directory, const std::string& side);
 
 // The checkpoints to resume from: for one side, its newest; for a coupled run, the fluid's and the
 // structure's of the newest step both hold. Throws std::runtime_error saying what DIR holds when there is

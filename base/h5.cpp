@@ -229,6 +229,8 @@ std::function<void()> write_hook;
 double write_hook_seconds = 0;
 std::chrono::steady_clock::time_point write_hook_last;
 
+} // namespace
+
 void after_write() {
     if (!write_hook) return;
     const auto now = std::chrono::steady_clock::now();
@@ -237,6 +239,7 @@ void after_write() {
     write_hook();
 }
 
+namespace {
 void write_typed(hid_t loc, const char* name, const std::vector<hsize_t>& dims, hid_t file_type,
                  hid_t mem_type, const void* data) {
     delete_link(loc, name);

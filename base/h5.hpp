@@ -74,6 +74,9 @@ void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims
 // While one is in scope, hook() runs after a dataset is written (write_dataset, write_table), at most once
 // per `seconds`: a coupled solver keeps its partner waiting through a long output with heartbeats between its
 // datasets (docs/protocol.md). One at a time per process.
+// Runs the hook of the WriteHook in scope (at most once per its seconds): for writers of their own (a
+// checkpoint's datasets).
+void after_write();
 class WriteHook {
   public:
     WriteHook(std::function<void()> hook, double seconds);

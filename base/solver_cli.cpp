@@ -8,6 +8,9 @@
 #include "base/run_lock.hpp"
 #include "base/run_plan.hpp"
 #include "base/signals.hpp"
+#include "proto/case.pb.h"
+
+#include <google/protobuf/text_format.h>
 
 #include <CLI/CLI.hpp>
 
@@ -97,9 +100,23 @@ void describe(CLI::App& app, const SolverCommands& c, Request& r) {
     }
 }
 
-// A checkpoint continues the run it was written by: the same case, overrides and output directory included.
+// A checkpoint continues the run it was written by: the same case and overrides but for where the outputs
+// go and how often progress lines and checkpoints come (--resume DIR is the output directory).
+std::string resumable_text(const std::string& text, const std::string& path) {
+    config::Case c;
+    if (!google::protobuf::TextFormat::ParseFromString(text, &c))
+        throw UsageError(path + ": the checkpoint's case does not read as a case of this version");
+    c.mutable_output()->clear_directory();
+    c.mutable_output()->clear_checkpoint_seconds();
+    c.mutable_output()->clear_progress_seconds();
+    std::string out;
+    google::protobuf::TextFormat::PrintToString(c, &out);
+    return out;
+}
+
 void check_resume(const std::string& path, const CaseFile& cf) {
-    const std::string saved = State::open(path).case_text(), now = cf.text();
+    const std::string saved = resumable_text(State::open(path).case_text(), path),
+                      now = resumable_text(cf.text(), path);
     if (saved == now) return;
     auto lines = [](const std::string& text) {
         std::vector<std::string> out;
@@ -112,9 +129,10 @@ void check_resume(const std::string& path, const CaseFile& cf) {
     size_t k = 0;
     while (k < a.size() && k < b.size() && a[k] == b[k])
         ++k;
-    throw UsageError(path + ": the checkpoint is of another case (or other --set overrides or output " +
-                     "directory): line " + std::to_string(k + 1) + " of the case is '" +
-                     (k < a.size() ? a[k] : "") + "', the checkpoint's '" + (k < b.size() ? b[k] : "") + "'");
+    throw UsageError(path + ": the checkpoint is of another case (or other --set overrides): line " +
+                     std::to_string(k + 1) + " of the case is '" + (k < a.size() ? a[k] : "") +
+                     "', the checkpoint's '" + (k < b.size() ? b[k] : "") +
+                     "' (only output.directory, checkpoint_seconds and progress_seconds may differ)");
 }
 
 int dispatch(const SolverCommands& c, Request& r) {

@@ -222,7 +222,13 @@ Envelope Channel::wait(std::int64_t step, Envelope::BodyCase expected) {
             // The sleep is cut in slices so that a stop request that came outside the poll (no EINTR) is
             // seen. Never negative: a negative timeout makes zmq_poll wait for ever (the deadline may pass
             // during the spin above).
-            poll(std::max(stop_ ? std::min(left, milliseconds(100)) : left, milliseconds(0)));
+            // A signal interrupts the poll (EINTR): the wait goes on unless stop_ says it ends, so that each
+            // side decides where a stop leaves it (fluid/run.cpp, solid/run_structure.cpp: at a step's end).
+            try {
+                poll(std::max(stop_ ? std::min(left, milliseconds(100)) : left, milliseconds(0)));
+            } catch (const zmq::error_t& e) {
+                if (e.num() != EINTR) throw;
+            }
             if (items[1].revents & ZMQ_POLLIN) {
                 const auto [event, fd] = read_event(monitor_);
                 on_event(event, fd);

@@ -121,9 +121,11 @@ class FluidRun : public Run {
             state(*resume);
             State o = resume->scope("output");
             out_ = std::make_unique<Output>(p.directory, *solver_, p.gauges, o);
+            write_history(); // the tables as they were at the checkpoint
             return;
         }
         out_ = std::make_unique<Output>(p.directory, c.text(), *solver_, p.gauges);
+        remove_checkpoints(p.directory, "fluid"); // of an older run in the directory
         record();
         out_->write_fields(*solver_);
     }
@@ -169,12 +171,22 @@ class FluidRun : public Run {
     }
     bool at_step_end() const override { return at_step_end_; }
     std::string write_checkpoint() override {
-        State s = State::create(directory_, "fluid", steps(), time(), case_text_);
+        // The structure waits meanwhile: heartbeats, as for an output (the partner may be gone after a
+        // failure: then none).
+        std::optional<h5::WriteHook> keep_waiting;
+        if (link_) keep_waiting.emplace([this] { beat(); }, 1.0);
+        beat();
+        State s = State::create(directory_, "fluid", link_ ? "solid" : "", steps(), time(), case_text_);
         state(s);
         State o = s.scope("output");
         out_->state(o);
-        s.commit();
-        return checkpoint_path(directory_, "fluid");
+        return s.commit();
+    }
+    void beat() noexcept {
+        try {
+            if (link_) (*link_)->heartbeat();
+        } catch (const std::exception&) {
+        }
     }
     void record() override {
         out_->record_gauges(*solver_);
@@ -209,6 +221,7 @@ class FluidRun : public Run {
         out_->write_gauges();
         write_history();
         out_->complete();
+        remove_checkpoints(directory_, "fluid"); // a complete run needs none
     }
     void fail(const std::string& why) override {
         if (link_) (*link_)->fail(why); // best effort: the peer learns the cause
@@ -377,7 +390,7 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple, const s
     std::optional<State> from;
     coupling::Start start;
     if (!resume.empty()) {
-        from.emplace(State::open(resume));
+        from.emplace(State::open(resume, "fluid"));
         start.step = from->step(), start.time = from->time();
         log << "undex-fluid: resuming from " << resume << " (step " << start.step
             << ", t = " << format("%.9g", start.time) << " s)" << std::endl;

@@ -121,6 +121,9 @@ int run(CaseRequest r, const std::string& endpoint, bool tcp, bool force, const 
             if (!run.command.empty())
                 throw undex::UsageError(
                     "--resume: the case's structure.command is a solver undex cannot resume");
+            if (st.has_rigid_plate())
+                throw undex::UsageError("--resume: undex-rigid keeps no checkpoints (a rigid plate's run takes "
+                                        "seconds): run the case again");
             std::tie(run.fluid_resume, run.structure_resume) = undex::resume_pair(resume);
             std::cout << "undex: resuming from " << run.fluid_resume << " and " << run.structure_resume
                       << std::endl;

@@ -264,8 +264,10 @@ class StructureRun : public Run {
             s_.state(model);
             run.io("history", history_);
             out_->resume(out);
+            write_history(); // the table as it was at the checkpoint
             return;
         }
+        remove_checkpoints(p.directory, "solid"); // of an older run in the directory
         out_->record();
         out_->write_fields();
     }
@@ -319,7 +321,10 @@ class StructureRun : public Run {
     }
     bool at_step_end() const override { return at_step_end_; }
     std::string write_checkpoint() override {
-        State st = State::create(directory_, "solid", steps(), time(), case_text_);
+        std::optional<h5::WriteHook> keep_waiting; // heartbeats, as for an output
+        if (link_) keep_waiting.emplace([this] { beat(); }, 1.0);
+        beat();
+        State st = State::create(directory_, "solid", link_ ? "fluid" : "", steps(), time(), case_text_);
         State model = st.scope("model"), run = st.scope("run"), out = st.scope("output");
         s_.state(model);
         run.io("history", history_);
@@ -331,8 +336,13 @@ class StructureRun : public Run {
                 run.io("link_after_short", at.after_short);
         }
         out_->state(out);
-        st.commit();
-        return checkpoint_path(directory_, "solid");
+        return st.commit();
+    }
+    void beat() noexcept {
+        try {
+            if (link_) link_->heartbeat();
+        } catch (const std::exception&) {
+        }
     }
     void record() override { out_->record(); }
     void write_output() override {
@@ -350,6 +360,7 @@ class StructureRun : public Run {
         out_->write_tables();
         write_history();
         out_->file().complete();
+        remove_checkpoints(directory_, "solid"); // a complete run needs none
     }
     void fail(const std::string& why) override {
         if (link_) link_->fail(why); // best effort: the peer learns the cause
@@ -411,7 +422,7 @@ int run_structure(const CaseFile& c, std::ostream& log, const std::string& coupl
     std::optional<State> from;
     coupling::Start start;
     if (!resume.empty()) {
-        from.emplace(State::open(resume));
+        from.emplace(State::open(resume, "solid"));
         log << "undex-solid: resuming from " << resume << " (step " << from->step()
             << ", t = " << format("%.9g", from->time()) << " s)" << std::endl;
         if (model.wet) {
