@@ -49,7 +49,8 @@ std::vector<std::pair<long, std::string>> checkpoints(const std::string& directo
     const std::string head = side + ".checkpoint.";
     for (const auto& entry : std::filesystem::directory_iterator(directory, e)) {
         const std::string n = entry.path().filename().string();
-        if (n.size() != head.size() + 12 || n.compare(0, head.size(), head) != 0 || n.substr(n.size() - 3) != ".h5")
+        if (n.size() != head.size() + 12 || n.compare(0, head.size(), head) != 0 ||
+            n.substr(n.size() - 3) != ".h5")
             continue;
         char* end = nullptr;
         const long step = std::strtol(n.c_str() + head.size(), &end, 10);
@@ -66,13 +67,14 @@ void remove_checkpoints(const std::string& directory, const std::string& side) {
     }
 }
 
-State State::create(const std::string& directory, const std::string& side, const std::string& partner, long step,
-                    double time, const std::string& case_text) {
+State State::create(const std::string& directory, const std::string& side, const std::string& partner,
+                    long step, double time, const std::string& case_text) {
     auto f = std::make_shared<File>();
     f->directory = directory, f->side = side, f->partner = partner;
     f->final_path = (std::filesystem::path(directory) / name_of(side, step)).string();
     f->path = f->final_path + ".tmp";
     f->step = step, f->time = time;
+    h5::init();
     const hid_t id = H5Fcreate(f->path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     if (id < 0) throw h5::Error(f->path + ": cannot create the checkpoint: " + h5::cause());
     f->file = h5::Object(id, H5Fclose, -1, f->path, "");
@@ -168,10 +170,12 @@ std::string State::commit() {
     // Kept besides this one: the newest step the partner also holds, else (alone, or no such step) the one
     // before.
     const auto own = checkpoints(file_->directory, file_->side);
-    const auto theirs = file_->partner.empty() ? decltype(own){} : checkpoints(file_->directory, file_->partner);
+    const auto theirs =
+        file_->partner.empty() ? decltype(own){} : checkpoints(file_->directory, file_->partner);
     long keep = -1;
     for (const auto& a : own)
-        if (a.first != file_->step && std::any_of(theirs.begin(), theirs.end(), [&](const auto& b) { return b.first == a.first; })) {
+        if (a.first != file_->step &&
+            std::any_of(theirs.begin(), theirs.end(), [&](const auto& b) { return b.first == a.first; })) {
             keep = a.first;
             break;
         }

@@ -20,8 +20,6 @@ Error::Error(const std::string& what) : std::runtime_error(what) {
     last_error = what;
 }
 
-namespace {
-
 // Once per process, before any other HDF5 call: no error printing by HDF5 (our messages say it once), and
 // no closing of files by the library at exit. Our files are closed or given up before exit (a file given up
 // after a failed write must not be flushed: OutputFile::fail), and a file whose close failed (a full disk)
@@ -34,6 +32,8 @@ void init() {
     }();
     (void)done;
 }
+
+namespace {
 
 struct Walk {
     std::string system;    // the text of errno from a file driver ("No space left on device")

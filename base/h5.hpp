@@ -18,6 +18,9 @@ struct Error : std::runtime_error {
     explicit Error(const std::string& what);
 };
 
+// Once per process, before any other HDF5 call (every function here calls it): HDF5's own error printing
+// and its closing of files at exit turned off.
+void init();
 // The innermost cause on HDF5's error stack (call it before any other HDF5 call, which clears the stack).
 std::string cause();
 // Throws Error "FILE: /OBJECT: cannot ACTION: CAUSE" for the object name relative to loc ("" for loc itself).
