@@ -193,11 +193,11 @@ std::string State::commit() {
 namespace {
 
 // What DIR holds, for a message.
-std::string listing(const std::string& dir, const std::vector<std::pair<long, std::string>>& files) {
+std::string listing(const std::string& dir, std::vector<std::pair<long, std::string>> files) {
     std::string found;
     for (const auto& f : files)
         found += "\n  " + f.second + ": step " + std::to_string(f.first);
-    return found.empty() ? " (none in " + dir + ")" : ":" + found;
+    return found.empty() ? " (there are none in " + dir + ")" : ":" + found;
 }
 
 } // namespace
@@ -213,8 +213,10 @@ std::pair<std::string, std::string> resume_pair(const std::string& directory) {
     for (const auto& a : f)
         for (const auto& b : s)
             if (a.first == b.first) return {a.second, b.second};
+    auto all = f;
+    all.insert(all.end(), s.begin(), s.end());
     throw std::runtime_error(directory + ": no checkpoints of the fluid and the structure at the same step" +
-                             listing(directory, f) + listing(directory, s));
+                             listing(directory, all));
 }
 
 } // namespace undex
