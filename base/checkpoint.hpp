@@ -79,6 +79,27 @@ class State {
     std::string prefix_;
 };
 
+// A list of outputs written, each a group name and a time (fluid.h5 and solid.h5 keep one for their XDMF), as
+// a checkpoint holds it.
+template <class Snapshot> void io_snapshots(State& s, std::vector<Snapshot>& v) {
+    std::string names;
+    std::vector<double> times;
+    for (const auto& x : v)
+        names += x.group + '\n', times.push_back(x.time);
+    std::vector<char> text(names.begin(), names.end());
+    s.io("snapshot_groups", text);
+    s.io("snapshot_time", times);
+    if (!s.loading()) return;
+    const std::string all(text.begin(), text.end());
+    v.clear();
+    size_t begin = 0;
+    for (const double t : times) {
+        const size_t end = all.find('\n', begin);
+        v.push_back({all.substr(begin, end - begin), t});
+        begin = end + 1;
+    }
+}
+
 // The checkpoints of side in directory, newest first: (step, path).
 std::vector<std::pair<long, std::string>> checkpoints(const std::string& directory, const std::string& side);
 // Removes them (a new run in the directory; a run that completed).

@@ -70,19 +70,7 @@ void Output::state(State& s) {
         s.io("gauge" + std::to_string(k), series_[k]);
     s.io("count", count_);
     s.io("frames", frames_);
-    std::vector<int> number;
-    std::vector<double> time;
-    for (const auto& snap : snapshots_)
-        number.push_back(std::atoi(snap.group.c_str() + std::strlen("fields/"))), time.push_back(snap.time);
-    s.io("snapshot_number", number);
-    s.io("snapshot_time", time);
-    if (!s.loading()) return;
-    snapshots_.clear();
-    for (size_t k = 0; k < number.size(); ++k) {
-        char name[32];
-        std::snprintf(name, sizeof name, "fields/%06d", number[k]);
-        snapshots_.push_back({name, time[k]});
-    }
+    io_snapshots(s, snapshots_);
 }
 
 void Output::write_frame(const FluidSolver& solver, int stride) {

@@ -71,20 +71,7 @@ class StructureOutput {
         st.io("energies", energies_);
         st.io("layer_energies", layer_energies_);
         st.io("layer_count", layer_count_);
-        std::vector<int> number;
-        std::vector<double> time;
-        for (const auto& snap : snapshots_)
-            number.push_back(std::atoi(snap.group.c_str() + std::strlen("fields/"))),
-                time.push_back(snap.time);
-        st.io("snapshot_number", number);
-        st.io("snapshot_time", time);
-        if (!st.loading()) return;
-        snapshots_.clear();
-        for (size_t k = 0; k < number.size(); ++k) {
-            char name[32];
-            std::snprintf(name, sizeof name, "fields/%06d", number[k]);
-            snapshots_.push_back({name, time[k]});
-        }
+        io_snapshots(st, snapshots_);
     }
 
     // A gauge at (x, y) of the reference configuration (1D: x is the depth).
