@@ -224,6 +224,10 @@ class TwoFluid final : public FluidSolver {
     std::vector<double> wx_, wy_;    // extension velocity of the level set
     std::vector<double> phi_before_; // φ at the start of the last step
     const std::vector<char>* region_ = nullptr;
+    // Work arrays of the interface treatment, kept between steps: allocating them afresh at every step cost
+    // more than the treatment itself (zeroing and first-touch page faults, on one thread).
+    std::vector<double> un_;
+    std::vector<char> un_known_, cut_;
 
     bool in_region(int i, int j) const { return !region_ || (*region_)[mesh_.index(i, j)]; }
 
@@ -233,6 +237,7 @@ class TwoFluid final : public FluidSolver {
     // Each fluid is active in its real region and within band_cells cells beyond the interface.
     void update_masks() {
         const double band = set_.band_cells * h();
+#pragma omp parallel for schedule(static) if (D == 2)
         for (int j = 0; j < mesh_.ny; ++j)
             for (int i = 0; i < mesh_.nx; ++i) {
                 const double f = phi_(i, j);
@@ -250,11 +255,15 @@ class TwoFluid final : public FluidSolver {
         std::vector<char> known;
         std::vector<double*> all() { return {rho.data(), u.data(), v.data(), p.data()}; }
     };
+    Fields fm_, fp_; // the minus and plus fluid's (work arrays, as un_)
 
-    template <class S> Fields read_fields(const S& scheme, bool minus) const {
-        const long n = static_cast<long>(mesh_.nx) * mesh_.ny;
-        Fields f{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n),
-                 std::vector<double>(n), std::vector<char>(n)};
+    // Every interior cell of f is written.
+    template <class S> void read_fields(const S& scheme, bool minus, Fields& f) const {
+        const size_t n = static_cast<size_t>(mesh_.nx) * mesh_.ny;
+        for (auto* a : {&f.rho, &f.u, &f.v, &f.p})
+            if (a->size() != n) a->resize(n);
+        if (f.known.size() != n) f.known.resize(n);
+#pragma omp parallel for schedule(static) if (D == 2)
         for (int j = 0; j < mesh_.ny; ++j)
             for (int i = 0; i < mesh_.nx; ++i) {
                 const Primitive w = scheme.cell_average(i, j);
@@ -262,7 +271,6 @@ class TwoFluid final : public FluidSolver {
                 f.rho[k] = w.rho, f.u[k] = w.u, f.v[k] = w.v, f.p[k] = w.p;
                 f.known[k] = in_region(i, j) && (phi_(i, j) < 0) == minus;
             }
-        return f;
     }
 
     // Weighted mean of the other fluid's real states around cell (i, j), favouring the cells that lie
@@ -313,11 +321,14 @@ class TwoFluid final : public FluidSolver {
     }
 
     // Interface cells: real cells with a 4-neighbour of the other fluid (within the region).
-    std::vector<std::array<int, 2>> interface_cells() const {
+    // Found in parallel, listed in row-major order.
+    std::vector<std::array<int, 2>> interface_cells() {
         const int nx = mesh_.nx, ny = mesh_.ny;
-        std::vector<std::array<int, 2>> cells;
+        cut_.resize(static_cast<size_t>(nx) * ny);
+#pragma omp parallel for schedule(static) if (D == 2)
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i < nx; ++i) {
+                cut_[at(i, j)] = 0;
                 if (!in_region(i, j)) continue;
                 const bool neg = phi_(i, j) < 0;
                 auto other = [&](int a, int b) { return in_region(a, b) && (phi_(a, b) < 0) != neg; };
@@ -326,8 +337,12 @@ class TwoFluid final : public FluidSolver {
                 if (i + 1 < nx) cut |= other(i + 1, j);
                 if (D == 2 && j > 0) cut |= other(i, j - 1);
                 if (D == 2 && j + 1 < ny) cut |= other(i, j + 1);
-                if (cut) cells.push_back({i, j});
+                cut_[at(i, j)] = cut;
             }
+        std::vector<std::array<int, 2>> cells;
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i)
+                if (cut_[at(i, j)]) cells.push_back({i, j});
         return cells;
     }
 
@@ -337,13 +352,15 @@ class TwoFluid final : public FluidSolver {
     void fill_bands(const Fields& fm, const Fields& fp, const std::vector<double>& sm,
                     const std::vector<double>& sp, const std::vector<double>& un, double band) {
         const int nx = mesh_.nx, ny = mesh_.ny;
-        const long n = static_cast<long>(nx) * ny;
-        wx_.assign(n, 0.0);
-        wy_.assign(n, 0.0);
+        const size_t n = static_cast<size_t>(nx) * ny;
+        if (wx_.size() != n) wx_.resize(n);
+        if (wy_.size() != n) wy_.resize(n);
+#pragma omp parallel for schedule(static) if (D == 2)
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i < nx; ++i) {
                 const long k = at(i, j);
                 const double f = phi_(i, j);
+                wx_[k] = wy_[k] = 0.0;
                 if (std::abs(f) > band || !in_region(i, j)) continue;
                 std::array<double, 2> nrm = phi_.normal(i, j);
                 if (D == 1) nrm = {nrm[0] >= 0 ? 1.0 : -1.0, 0.0};
@@ -378,9 +395,16 @@ class TwoFluid final : public FluidSolver {
     void treat_interface() {
         const int nx = mesh_.nx, ny = mesh_.ny;
         const long n = static_cast<long>(nx) * ny;
-        Fields fm = read_fields(minus_, true), fp = read_fields(plus_, false);
-        std::vector<double> un(n, 0.0);
-        std::vector<char> un_known(n, 0);
+        Fields &fm = fm_, &fp = fp_;
+        read_fields(minus_, true, fm);
+        read_fields(plus_, false, fp);
+        std::vector<double>& un = un_;
+        std::vector<char>& un_known = un_known_;
+        un.resize(n);
+        un_known.resize(n);
+#pragma omp parallel for schedule(static) if (D == 2)
+        for (long k = 0; k < n; ++k)
+            un[k] = 0.0, un_known[k] = 0;
         // Original GFM: the entropy function of each fluid (EquationOfState::entropy), extrapolated from its
         // side.
         std::vector<double> sm, sp;
