@@ -130,7 +130,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 
     void step(double dt) override {
         // u0 = stage = u (cells outside the active rows keep their values through the stages), in parallel:
-        // on one thread the copies took a tenth of a two-fluid step.
+        // on one thread the copies took 7 % of the main thread's time in a two-fluid step (perf, 0.01 m).
         const long n = static_cast<long>(u_.size());
         u0_.resize(n);
         stage_.resize(n);
