@@ -2,6 +2,7 @@
 // Below the cavitation pressure a cell holds a homogeneous, barotropic vapour–liquid mixture whose density
 // ρ(p) is monotone in p; the pressure is found by inverting it.
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 namespace undex::fluid {
@@ -41,31 +42,30 @@ struct CavitationModel {
                (liquid_ratio(p, -1.0 / gamma_w) + k * std::pow(p / p_cav, -1.0 / gamma_g));
     }
 
-    // Pressure of a mixture of density rho < rho_sat: Newton in s = ln p, safeguarded by a bracket.
+    // Pressure of a mixture of density rho < rho_sat. With q = (p/p_cav)^(−1/γg) ≥ 1, the density relation
+    // above reads
+    //     g(q) = (p̄/p̄_cav)^(−1/γw) + k q − (k ρg_cav + ρl_cav)/ρ = 0,   p = p_cav q^(−γg),
+    // where the liquid term differs from 1 by at most (p_cav/p̄_cav)/γw ≈ 1e-6. Taking it as 1 gives q in
+    // closed form, q0 = ((k ρg_cav + ρl_cav)/ρ − 1)/k, at or above the root (within 15 % of it next to p_cav,
+    // closer as p falls, where k q outgrows the liquid term's change). g increases with q (dg/dq = k +
+    // (γg/γw) L p/(p̄ q) with L the liquid term) and is concave, so Newton from q0 lands at or left of the root
+    // and then climbs to it monotonically: three or four steps, one pow each, near p_cav, one or two below.
+    // Pressures below e^−60 Pa (ρ about 1e-13 kg/m³) are returned as e^−60.
     double pressure(double rho) const {
-        double lo = -60.0, hi = std::log(p_cav); // ln p bracket (p from ~1e-26 Pa to p_cav)
-        double s = std::log(p_cav * std::pow(rho / rho_sat, gamma_g)); // vapour-dominated guess
-        if (!(s > lo && s < hi)) s = 0.5 * (lo + hi);
-        const double ln_p_cav = std::log(p_cav);
-        for (int it = 0; it < 100; ++it) {
-            const double p = std::exp(s);
-            const double d1 = liquid_ratio(p, -1.0 / gamma_w);
-            const double d2 = k * std::exp(-(s - ln_p_cav) / gamma_g); // k (p/p_cav)^(−1/γg)
-            const double den = d1 + d2;
-            const double f = (k * rho_g_cav + rho_l_cav) / den - rho;
-            if (f > 0)
-                hi = s;
-            else
-                lo = s;
-            const double pbar = p + B - A;
-            const double dden_ds = -(1.0 / gamma_w) * d1 * p / pbar - (1.0 / gamma_g) * d2;
-            const double drho_ds = -(k * rho_g_cav + rho_l_cav) * dden_ds / (den * den);
-            double s_new = s - f / drho_ds;
-            if (!(s_new > lo && s_new < hi)) s_new = 0.5 * (lo + hi);
-            if (std::abs(s_new - s) < 1e-13 * (1.0 + std::abs(s))) return std::exp(s_new);
-            s = s_new;
+        constexpr double p_min = 8.75651076269652e-27; // e^−60
+        const double rhs = (k * rho_g_cav + rho_l_cav) / rho;
+        double q = (rhs - 1.0) / k;
+        double p = p_cav * std::pow(q, -gamma_g);
+        for (int it = 0; it < 20 && p > p_min; ++it) {
+            const double liquid = liquid_ratio(p, -1.0 / gamma_w); // L = (p̄/p̄_cav)^(−1/γw)
+            const double g = liquid + k * q - rhs;
+            const double dg_dq = k + (gamma_g / gamma_w) * liquid * p / ((p + B - A) * q);
+            const double dq = g / dg_dq;
+            q -= dq;
+            p = p_cav * std::pow(q, -gamma_g);
+            if (std::abs(dq) <= 1e-14 * q) break;
         }
-        return std::exp(s);
+        return std::max(p, p_min);
     }
 
     // Wood's mixture sound speed: a⁻² = ρm [α/(ρg ag²) + (1−α)/(ρl al²)].
