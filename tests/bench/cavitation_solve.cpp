@@ -1,5 +1,5 @@
 // Cost of one mixture pressure solve, CavitationModel::pressure(ρ) (fluid/cavitation.hpp), over the whole
-// mixture range: densities of pressures from p_cav down to 1e-3 Pa, 1 % apart, each solved RUNS times.
+// mixture range: densities of pressures from p_cav down to 1e-3 Pa, 1 % apart, each solved 200 times.
 // Built and run by tests/bench/cavitation_solve.sh, which can also build it against another commit's header.
 #include "fluid/cavitation.hpp"
 #include <chrono>

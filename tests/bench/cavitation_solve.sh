@@ -1,7 +1,7 @@
 #!/bin/bash
 # Cost of one mixture pressure solve p(ρ) of the cavitation model (tests/bench/cavitation_solve.cpp), median
 # of RUNS runs, with this tree's fluid/cavitation.hpp and, if REV is given, with that commit's (the same
-# program, compiler and flags as the Release build: -O3 -march=native).
+# program and compiler for both, -O3 -march=native as the Release build, without its -ffp-contract=off).
 # Usage: tests/bench/cavitation_solve.sh [RUNS] [REV]
 #   e.g. tests/bench/cavitation_solve.sh 5 f47085b     (against the Newton solve before the closed-form start)
 set -euo pipefail
