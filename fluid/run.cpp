@@ -233,10 +233,15 @@ class FluidRun : public Run {
     }
     std::string output_path() const override { return out_->path(); }
     std::string summary(double wall) const override {
-        if (!link_) return "";
-        std::string out = format(" (coupling %.3f s, %.1f %%", coupling_wall_, 100 * coupling_wall_ / wall);
+        std::string out;
+        if (solver_->cell_updates_skipped() > 0)
+            out += format("; %.1f %% of %.4g cell updates skipped (still water)",
+                          100.0 * solver_->cell_updates_skipped() / solver_->cell_updates(),
+                          double(solver_->cell_updates()));
+        if (!link_) return out.empty() ? out : " (" + out.substr(2) + ")";
+        out = format("coupling %.3f s, %.1f %%", coupling_wall_, 100 * coupling_wall_ / wall) + out;
         if (link_->wet()) out += format("; wet faces %.3f s, %.1f %%", faces_wall_, 100 * faces_wall_ / wall);
-        return out + ")";
+        return " (" + out + ")";
     }
     bool coupling_error(const std::exception& e) const override {
         return dynamic_cast<const coupling::CouplingError*>(&e) != nullptr;

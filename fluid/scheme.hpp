@@ -35,6 +35,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         fx_.assign(static_cast<long>(mesh_.nx + 1) * mesh_.ny * NQF * NV, 0.0);
         if (D == 2) fy_.assign(static_cast<long>(mesh_.ny + 1) * mesh_.nx * NQF * NV, 0.0);
         troubled_flag_.assign(mesh_.padded_cells(), 0);
+        if (s.skip_rest) set_rest(s.rest);
         active_changed();
         const double gx = 2.0 / mesh_.dx, gy = 2.0 / mesh_.dy;
         for (int l = 0; l < NB; ++l) {
@@ -59,6 +60,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     long steps() const override { return steps_; }
     long troubled_cells() const override { return troubled_; }
     long positivity_scaled_cells() const override { return scaled_; }
+    long cell_updates() const override { return updates_; }
+    long cell_updates_skipped() const override { return skipped_; }
     bool has_cavitation() const override { return eos_.has_cavitation(); }
     double void_fraction(double p) const override { return eos_.void_fraction(p); }
 
@@ -105,6 +108,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                             }
                 }
             }
+        wake(); // before the limiter, which solves awake cells only
         limit(u_, 0.0, "initial data");
         capture_layers();
     }
@@ -125,12 +129,16 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 if (D == 2) r = std::max(r, (std::abs(w.v) + a) / mesh_.dy);
                 inv = std::max(inv, r);
             }
+        if (asleep_ > 0) inv = std::max(inv, rest_rate_); // the still water's own (|u| + a)/Δx
         return std::min(set_.cfl / inv, 1.0 / sigma_max_); // σΔt ≤ 1 in the absorbing layers
     }
 
     void step(double dt) override {
         // u0 = stage = u (cells outside the active rows keep their values through the stages), in parallel:
         // on one thread the copies took 7 % of the main thread's time in a two-fluid step (perf, 0.01 m).
+        wake();
+        updates_ += solved_ + asleep_;
+        skipped_ += asleep_;
         const long n = static_cast<long>(u_.size());
         u0_.resize(n);
         stage_.resize(n);
@@ -165,6 +173,12 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         last_dt_ = dt;
     }
 
+    // Still water (Settings::skip_rest): wakes the cells a disturbance can reach within a step (below).
+    // Called by step() and project(), and by whoever writes cells between steps before the first one.
+    void wake_cells() {
+        wake();
+    }
+
     // Takes back the last step (used when the other fluid of a two-fluid step fails).
     void revert_step() {
         u_ = u0_;
@@ -182,15 +196,26 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     // To be called whenever the mask's contents change: loops run over each row's span of active cells.
     void active_changed() {
         lo_.assign(mesh_.ny, 0);
-        hi_.assign(mesh_.ny, active_ ? 0 : mesh_.nx);
-        if (!active_) return;
-#pragma omp parallel for schedule(static) if (D == 2)
+        hi_.assign(mesh_.ny, active_ || skip_ ? 0 : mesh_.nx);
+        solved_ = static_cast<long>(mesh_.nx) * mesh_.ny, asleep_ = 0;
+        if (!active_ && !skip_) return;
+        long solved = 0, asleep = 0;
+#pragma omp parallel for reduction(+ : solved, asleep) schedule(static) if (D == 2)
         for (int j = 0; j < mesh_.ny; ++j) {
             int lo = mesh_.nx, hi = 0;
-            for (int i = 0; i < mesh_.nx; ++i)
-                if ((*active_)[mesh_.index(i, j)]) lo = std::min(lo, i), hi = i + 1;
+            for (int i = 0; i < mesh_.nx; ++i) {
+                const long k = mesh_.index(i, j);
+                if (active_ && !(*active_)[k]) continue;
+                if (skip_ && !awake_[k]) {
+                    ++asleep;
+                    continue;
+                }
+                ++solved;
+                lo = std::min(lo, i), hi = i + 1;
+            }
             if (hi > lo) lo_[j] = lo, hi_[j] = hi;
         }
+        solved_ = solved, asleep_ = asleep;
     }
 
     // Sets cell (i, j) to the constant polynomial of a primitive state.
@@ -201,8 +226,11 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     // Cells that a coupling sets at every stage, as the domain's ghost cells are (the structure's ghost band,
     // fluid/wet_fluid.hpp): f(U) is called with the coefficients of the stage after the domain's ghost cells
     // are filled and before the fluxes and the limiter read them; it must write inactive cells only.
-    void set_stage_ghosts(std::function<void(double*)> f) {
+    // `reach`: the farthest a ghost value reads the fluid, in cells (it sets how far a disturbance can travel
+    // in one step, Scheme::wake).
+    void set_stage_ghosts(std::function<void(double*)> f, int reach) {
         stage_ghosts_ = std::move(f);
+        ghost_reach_ = reach;
     }
     // This scheme as the one scheme of its fluid (TwoFluid has two), for code written for one or two fluids.
     template <class F> void for_each_scheme(F&& f) {
@@ -235,6 +263,12 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         s.io("scaled", scaled_);
         s.io("lo", lo_);
         s.io("hi", hi_);
+        s.io("awake", awake_);
+        s.io("all_awake", all_awake_);
+        s.io("solved", solved_);
+        s.io("asleep", asleep_);
+        s.io("updates", updates_);
+        s.io("skipped", skipped_);
         for (int k = 0; k < 4; ++k) { // the structure's interface state of a STRUCTURE side
             s.io("bc" + std::to_string(k) + ".p_I", bc_[k].p_I);
             s.io("bc" + std::to_string(k) + ".u_I", bc_[k].u_I);
@@ -395,7 +429,103 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     }
 
     bool active(int i, int j) const {
-        return !active_ || (*active_)[mesh_.index(i, j)];
+        const long k = mesh_.index(i, j);
+        return (!active_ || (*active_)[k]) && (!skip_ || awake_[k]);
+    }
+
+    // Still water (Settings::skip_rest). A cell sleeps (is not updated) while every cell within reach() of it
+    // holds the rest state to 1e-14 relative: one step can carry a disturbance no farther (per stage, one
+    // cell through the face fluxes and one through the limiter's neighbours, plus what a ghost band reads).
+    // A cell that wakes stays awake.
+    bool skip_ = false, all_awake_ = false;
+    double rest_[NC] = {}, rest_tol_[NV] = {}, rest_rate_ = 0;
+    std::vector<char> awake_, near_; // awake_: padded cells; near_: work array of wake()
+    long solved_ = 0, asleep_ = 0;   // cells solved and cells asleep in the fluid's region (active_)
+    long updates_ = 0, skipped_ = 0; // Σ over steps
+    int ghost_reach_ = 0;
+    int reach() const { return 3 * (2 + ghost_reach_); }
+
+    void set_rest(const Primitive& w) {
+        skip_ = true;
+        euler::to_conserved<D>(eos_, w, euler::Strided<double>{rest_, NB});
+        const double a = eos_.sound_speed(w.rho, w.p);
+        const double scale[3] = {w.rho, w.rho * a, std::max(std::abs(rest_[E * NB]), w.rho * a * a)};
+        for (int v = 0; v < NV; ++v)
+            rest_tol_[v] = 1e-14 * scale[v == 0 ? 0 : v == E ? 2 : 1];
+        rest_rate_ = a / mesh_.dx;
+        if (D == 2) rest_rate_ = std::max(rest_rate_, a / mesh_.dy);
+        awake_.assign(mesh_.padded_cells(), 0);
+    }
+    // Whether cell (i, j) may change within a step even if all around it is at rest: it is not at rest, or
+    // it lies on a side whose ghost cells hold data from outside (pressure, incident wave, 1D structure,
+    // periodic partner).
+    bool disturbed(int i, int j) const {
+        auto outside = [&](int side) {
+            const BoundaryType t = bc_[side].type;
+            return t == BoundaryType::Pressure || t == BoundaryType::Incident || t == BoundaryType::Structure ||
+                   t == BoundaryType::Periodic;
+        };
+        if ((i == 0 && outside(0)) || (i == mesh_.nx - 1 && outside(1))) return true;
+        if (D == 2 && ((j == 0 && outside(2)) || (j == mesh_.ny - 1 && outside(3)))) return true;
+        const double* c = cell(u_.data(), i, j);
+        for (int v = 0; v < NV; ++v)
+            for (int l = 0; l < NB; ++l)
+                if (!(std::abs(c[v * NB + l] - rest_[v * NB + l]) <= rest_tol_[v])) return true; // NaN too
+        return false;
+    }
+    // Wakes every cell within reach() (a square) of a disturbed cell: at the start of a step, after whatever
+    // set the step's data (the interface treatment, the structure's answer) and before a stage reads a cell.
+    void wake() {
+        if (!skip_ || all_awake_) return;
+        if (stage_ghosts_) stage_ghosts_(u_.data()); // the band as stage 1 will see it
+        const int nx = mesh_.nx, ny = mesh_.ny, R = reach();
+        near_.resize(static_cast<long>(nx) * ny);
+        // Along x: near_ = 1 within R cells of a disturbed cell of the row.
+#pragma omp parallel for schedule(static) if (D == 2)
+        for (int j = 0; j < ny; ++j) {
+            char* h = near_.data() + static_cast<long>(j) * nx;
+            int last = -2 * R - 2;
+            for (int i = 0; i < nx; ++i) {
+                h[i] = disturbed(i, j);
+                if (h[i]) last = i;
+                h[i] |= i - last <= R ? 2 : 0;
+            }
+            int next = nx + 2 * R + 2;
+            for (int i = nx - 1; i >= 0; --i) {
+                if (h[i] & 1) next = i;
+                h[i] = (h[i] & 2) || next - i <= R;
+            }
+        }
+        // Along y: a cell wakes if a row within R of its own is near.
+        long woken = 0;
+#pragma omp parallel if (D == 2)
+        {
+            std::vector<char> any(nx);
+#pragma omp for reduction(+ : woken) schedule(static)
+            for (int j = 0; j < ny; ++j) {
+                std::fill(any.begin(), any.end(), 0);
+                for (int r = std::max(0, j - R); r <= std::min(ny - 1, j + R); ++r) {
+                    const char* h = near_.data() + static_cast<long>(r) * nx;
+                    for (int i = 0; i < nx; ++i)
+                        any[i] |= h[i];
+                }
+                char* a = awake_.data() + mesh_.index(0, j);
+                for (int i = 0; i < nx; ++i) {
+                    woken += any[i] && !a[i];
+                    a[i] |= any[i];
+                }
+            }
+        }
+        if (woken == 0) return;
+        active_changed();
+        all_awake_ = awake_count() == static_cast<long>(nx) * ny; // no more scans
+    }
+    long awake_count() const {
+        long n = 0;
+        for (int j = 0; j < mesh_.ny; ++j)
+            for (int i = 0; i < mesh_.nx; ++i)
+                n += awake_[mesh_.index(i, j)];
+        return n;
     }
     long troubled_ = 0;
     long scaled_ = 0; // cells changed by the positivity scaling in this step

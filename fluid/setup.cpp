@@ -720,6 +720,9 @@ std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
     s.weno_epsilon = n.weno_epsilon();
     s.positivity = n.positivity();
     s.positivity_epsilon = n.positivity_epsilon();
+    const auto& still = c.regions(0);
+    s.skip_rest = n.skip_rest() && still.u() == 0 && still.v() == 0;
+    s.rest = {still.rho(), 0.0, 0.0, still.p()};
     std::array<Boundary, 4> bc;
     bc[0] = boundary(c.boundaries().x_min());
     bc[1] = boundary(c.boundaries().x_max());

@@ -29,6 +29,11 @@ struct Boundary {
     double strength = 0;                    // BoundaryType::Absorbing: σ_max · layer / a
 };
 
+// Primitive state at a point.
+struct Primitive {
+    double rho = 0, u = 0, v = 0, p = 0;
+};
+
 enum class Indicator { Tvb, All, None };
 enum class Limiter { Weno, Minmod, None };
 
@@ -42,11 +47,10 @@ struct Settings {
     double weno_epsilon = 1e-6;
     bool positivity = true;
     double positivity_epsilon = 1e-10;
-};
-
-// Primitive state at a point.
-struct Primitive {
-    double rho = 0, u = 0, v = 0, p = 0;
+    // Still water (numerics.skip_rest): cells whose state and whose neighbours' states within one step's
+    // reach are `rest` (to 1e-14 relative) are not updated (Scheme::wake).
+    bool skip_rest = false;
+    Primitive rest;
 };
 
 class FluidSolver {
@@ -84,6 +88,10 @@ class FluidSolver {
     virtual long troubled_cells() const = 0;
     // Number of cells the Zhang–Shu positivity scaling changed in the last step (all stages).
     virtual long positivity_scaled_cells() const = 0;
+    // Cell updates (cells solved × steps, summed over the fluids) since the start, and of those the ones
+    // skipped as still water (Settings::skip_rest).
+    virtual long cell_updates() const = 0;
+    virtual long cell_updates_skipped() const = 0;
     // Primitive state and sound speed at (x, y) from the DG polynomial (the fluid side of an interface).
     virtual double sound_speed(double x, double y) const = 0;
     // The lowest pressure the fluid can hold: the cavitation pressure, or where ρ or p + P∞ reach 0.

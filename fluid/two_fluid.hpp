@@ -41,7 +41,7 @@ class TwoFluid final : public FluidSolver {
     TwoFluid(const Mesh& mesh, const EosM& eos_m, const EosP& eos_p, const Settings& s,
              const std::array<Boundary, 4>& bc, const InterfaceSettings& is, const std::string& minus_name,
              const std::string& plus_name)
-        : mesh_(mesh), set_(is), names_{minus_name, plus_name}, minus_(mesh, eos_m, s, bc),
+        : mesh_(mesh), set_(is), names_{minus_name, plus_name}, minus_(mesh, eos_m, without_rest(s), bc),
           plus_(mesh, eos_p, s, bc), phi_(mesh), mat_m_(eos_m.riemann_material()),
           mat_p_(eos_p.riemann_material()) {
         active_m_.assign(mesh_.padded_cells(), 0);
@@ -66,6 +66,8 @@ class TwoFluid final : public FluidSolver {
         plus_.set_active(&active_p_);
         update_masks();
         treat_interface();
+        minus_.wake_cells(); // the ghost bands just written count for the first step's Δt
+        plus_.wake_cells();
     }
 
     const Mesh& mesh() const override { return mesh_; }
@@ -77,6 +79,10 @@ class TwoFluid final : public FluidSolver {
     long troubled_cells() const override { return minus_.troubled_cells() + plus_.troubled_cells(); }
     long positivity_scaled_cells() const override {
         return minus_.positivity_scaled_cells() + plus_.positivity_scaled_cells();
+    }
+    long cell_updates() const override { return minus_.cell_updates() + plus_.cell_updates(); }
+    long cell_updates_skipped() const override {
+        return minus_.cell_updates_skipped() + plus_.cell_updates_skipped();
     }
     bool has_cavitation() const override { return minus_.has_cavitation() || plus_.has_cavitation(); }
     double void_fraction(double p) const override {
@@ -213,6 +219,11 @@ class TwoFluid final : public FluidSolver {
     }
 
   private:
+    // The still water of Settings::skip_rest is the plus fluid's (regions[0]'s).
+    static Settings without_rest(Settings s) {
+        s.skip_rest = false;
+        return s;
+    }
     Mesh mesh_;
     InterfaceSettings set_;
     std::array<std::string, 2> names_; // materials of the minus and plus fluid, for messages

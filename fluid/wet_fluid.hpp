@@ -71,7 +71,9 @@ template <int K, class M> class WetFluid final : public WetSolver {
             Side& sd = *sides_[f];
             sd.scheme->set_active(&sd.mask);
             sd.scheme->for_each_scheme([this, f](auto& sc) {
-                sc.set_stage_ghosts([this, f, &sc](double* U) { fill_band(f, sc, U); });
+                // A ghost cell lies within far() of its face and reads the first real cell within
+                // band_cells + 1 of the face along the normal (first_real).
+                sc.set_stage_ghosts([this, f, &sc](double* U) { fill_band(f, sc, U); }, 2 * band_cells_ + 3);
             });
         }
         rebuild(true);
@@ -288,6 +290,12 @@ template <int K, class M> class WetFluid final : public WetSolver {
     }
     long positivity_scaled_cells() const override {
         return sum([](const M& s) { return s.positivity_scaled_cells(); });
+    }
+    long cell_updates() const override {
+        return sum([](const M& s) { return s.cell_updates(); });
+    }
+    long cell_updates_skipped() const override {
+        return sum([](const M& s) { return s.cell_updates_skipped(); });
     }
     double sound_speed(double x, double y) const override {
         if (sides_.empty()) return base_->sound_speed(x, y);

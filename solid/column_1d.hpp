@@ -100,13 +100,18 @@ class Column1D : public Structure {
         en_.kinetic = kinetic();
     }
 
-    // Largest stable step: min over elements of l / sqrt(M/ρ) (physics.md §6), without safety factor.
+    // Largest stable step: min over elements of l / sqrt(M/ρ) (physics.md §6), without safety factor, M the
+    // element's present elastic modulus (MaterialLaw::wave_modulus_at) for a strain step of twice what the
+    // present strain rate gives over the step that modulus allows.
     double stable_dt() const override {
         double dt = 1e300;
         for (size_t e = 0; e < elements_.size(); ++e) {
             const auto& el = elements_[e];
-            const double l = x_[e + 1] + u_[e + 1] - x_[e] - u_[e];
-            dt = std::min(dt, l / std::sqrt(el.law->wave_modulus() / el.law->density()));
+            const double l = x_[e + 1] + u_[e + 1] - x_[e] - u_[e], rho = el.law->density();
+            const double rate = std::abs(v_[e + 1] - v_[e]) / l;
+            const double dt_now = l / std::sqrt(el.law->wave_modulus_at(points_[e], 0.0) / rho);
+            const double M = el.law->wave_modulus_at(points_[e], 2 * rate * dt_now);
+            dt = std::min(dt, l / std::sqrt(M / rho));
         }
         return dt;
     }

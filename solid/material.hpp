@@ -56,6 +56,13 @@ class MaterialLaw {
     // Modulus of the fastest dilatational wave, λ̂ + 2μ̂ of physics.md §6 (for uniaxial laws the largest
     // uniaxial modulus), so that the stable time step is L_e / sqrt(wave_modulus / ρ).
     virtual double wave_modulus() const = 0;
+    // The modulus of the fastest wave at a point in state s whose axial strain may change by up to
+    // strain_step (≥ 0) within the next step: the elastic (unloading) modulus of its present branch, never a
+    // plastic tangent (a step from the tangent is unstable on unloading). Laws of one elastic modulus:
+    // wave_modulus().
+    virtual double wave_modulus_at(const PointState& /*s*/, double /*strain_step*/) const {
+        return wave_modulus();
+    }
     // Elastic shear modulus G (0 for laws that are uniaxial by construction, which 2D elements refuse).
     virtual double shear_modulus() const = 0;
     // Advances the point by the strain increment de over dt > 0.

@@ -24,6 +24,10 @@ class Foam1D final : public MaterialLaw {
     std::string name() const override { return "foam_1d"; }
     double density() const override { return c_.rho; }
     double wave_modulus() const override { return c_.E_lock; }
+    // E while the step cannot carry the compression to ε_D, E_lock from there on.
+    double wave_modulus_at(const PointState& s, double strain_step) const override {
+        return -s.strain[0] + strain_step >= c_.eps_d ? c_.E_lock : c_.E;
+    }
     double shear_modulus() const override { return 0; }
 
   protected:

@@ -220,6 +220,16 @@ TEST(Materials, Foam1DPlateauRateAndLockUp) {
     law.update({-1e-4, 0, 0, 0, 0, 0}, 1e-4, s);
     EXPECT_NEAR((s.stress[0] - before) / (s.strain[0] - e0), c.E_lock, 1e-6 * c.E_lock);
     EXPECT_EQ(law.wave_modulus(), c.E_lock);
+    // The present modulus: E until a step of the given strain could reach ε_D, E_lock from there and beyond.
+    PointState at;
+    at.strain[0] = -0.5;
+    EXPECT_EQ(law.wave_modulus_at(at, 0.0), c.E);
+    EXPECT_EQ(law.wave_modulus_at(at, 0.29), c.E);
+    EXPECT_EQ(law.wave_modulus_at(at, 0.31), c.E_lock);
+    at.strain[0] = -0.81;
+    EXPECT_EQ(law.wave_modulus_at(at, 0.0), c.E_lock);
+    at.strain[0] = 0.1; // tension: far from densification
+    EXPECT_EQ(law.wave_modulus_at(at, 0.5), c.E);
 }
 
 // A missing or out-of-range constant is refused with its name.

@@ -51,3 +51,21 @@ TEST(TimeStep, StableDtIsCflOverTheLargestWaveSpeedPerDirection) {
         EXPECT_NEAR(s->stable_dt(), expected, 1e-12 * expected);
     }
 }
+
+// Still water (numerics.skip_rest, on by default): cells asleep still count for the step, at the rest
+// state's (|u| + a)/Δx; water at rest (Tait, ρ0 1000, p = A = 1e5: a = sqrt(γ B / ρ0)) with transmissive
+// sides sleeps everywhere, and the step is the formula's, not unbounded. Bound: 1e-12 relative.
+TEST(TimeStep, StillWaterCountsAsleep) {
+    auto s = undex::test::make(
+        "geometry: PLANAR_2D domain { x_min: 0 x_max: 1 cells_x: 50 y_min: 0 y_max: 1 cells_y: 20 }"
+        " boundaries { x_min { type: TRANSMISSIVE } x_max { type: TRANSMISSIVE } y_min { type: TRANSMISSIVE }"
+        " y_max { type: TRANSMISSIVE } }"
+        " materials { name: 'water' tait { gamma: 7.15 B: 3.31e8 A: 1e5 rho0: 1000 } }"
+        " regions { material: 'water' rho: 1000 p: 1e5 } numerics { degree: 1 cfl: 0.3 threads: 1 }"
+        " end_time: 1e-3 output { directory: '/tmp' }");
+    const double a = std::sqrt(7.15 * 3.31e8 / 1000), expected = 0.3 * 0.02 / a;
+    EXPECT_NEAR(s->stable_dt(), expected, 1e-12 * expected);
+    s->step(0.5 * expected);
+    EXPECT_EQ(s->cell_updates(), 50 * 20);
+    EXPECT_EQ(s->cell_updates_skipped(), 50 * 20);
+}

@@ -116,6 +116,45 @@ TEST(Column1D, PlasticRunClosesTheEnergyBalance) {
     EXPECT_GT(en.plastic, 0.01 * en.external);
 }
 
+// The step follows each element's present modulus (MaterialLaw::wave_modulus_at): a foam core (E_lock = 10 E)
+// crushed against a fixed back face by 20 MPa (13 times its plateau) steps at the limit of E, l / sqrt(E/ρ),
+// while no element can reach densification within a step, and at that of E_lock wherever one has; stepping
+// at 0.9 stable_dt() throughout, it crushes through lock-up with the energy balance closed to 1 % of the
+// external work (the bound of the plastic run above, for a shock of lock-up). A step from E alone is 2.8
+// times the lock-up limit there: the locked elements ring and invert.
+TEST(Column1D, StepFollowsTheFoamThroughLockUp) {
+    Foam1D::Constants f;
+    f.rho = 236, f.E = 1e9, f.sigma_pl = 1.5e6, f.eta = 1e3, f.eps_d = 0.8, f.E_lock = 1e10;
+    const int n = 30;
+    const double h = 0.025 / n;
+    Column1D col({{std::make_shared<Foam1D>(f), 0.025, n, true}}, Kinematics1D::UniaxialStress);
+    col.set_pressure(0, [](double) { return 2e7; });
+    col.set_face(1, Face1D::Fixed);
+    const double c_E = std::sqrt(f.E / f.rho), c_lock = std::sqrt(f.E_lock / f.rho);
+    EXPECT_NEAR(col.stable_dt(), h / c_E, 1e-12 * h / c_E);
+    int locked_steps = 0;
+    while (col.time() < 2e-4) {
+        const double dt = col.stable_dt();
+        // Every locked element bounds the step by its present length over the lock-up wave speed.
+        double lock_limit = 1e300;
+        for (size_t e = 0; e < col.element_count(); ++e)
+            if (-col.point(e).strain[0] >= f.eps_d) {
+                const double l = col.node_x(e + 1) + col.displacement(e + 1) - col.node_x(e) - col.displacement(e);
+                lock_limit = std::min(lock_limit, l / c_lock);
+            }
+        if (lock_limit < 1e300) {
+            ++locked_steps;
+            ASSERT_LE(dt, lock_limit * (1 + 1e-12)) << "t = " << col.time();
+        }
+        col.step(0.9 * dt);
+    }
+    const auto& en = col.energies();
+    std::printf("foam through lock-up: %ld steps (%d with a locked element), W_ext %.4e, balance error %.3e\n",
+                col.steps(), locked_steps, en.external, en.balance_error() / en.external);
+    EXPECT_GT(locked_steps, 100);
+    EXPECT_LT(std::abs(en.balance_error()), 0.01 * en.external);
+}
+
 // An element that inverts stops the run with a message naming it; bad layers are refused by name.
 TEST(Column1D, InversionAndBadLayers) {
     Foam1D::Constants f;
