@@ -67,9 +67,11 @@ sed -e "s|@OUT@|$TMP/out-valid|" "$TMP/base.in" > "$TMP/valid.case"
 if "$UNDEX" check "$TMP/valid.case" | grep -q "ok: structure of 3 layer(s), 42 elements"; then
     echo "ok: valid structure"; passed=$((passed + 1))
 else echo "FAIL: valid structure"; failed=$((failed + 1)); fi
-# A valid structure runs alone (undex-solid): complete status, energy balance closed to 1e-6 of the external
-# work (measured 5e-8; the discrete balance of central differences is O(Δt) of the work rate), the core
-# crushed plastically.
+# A valid structure runs alone (undex-solid): complete status, energy balance closed to 2e-5 of the external
+# work, the core crushed plastically. The discrete balance of central differences falls as Δt²: measured
+# 6.5e-6 at the step of each element's present modulus (3 303 steps), 4.7e-8 at the 11.8 times smaller step
+# of the foam's lock-up modulus everywhere (38 815 steps, the step before issue 17); the bound is 3 times the
+# measured value.
 "$UNDEX" run "$TMP/valid.case" > "$TMP/run.log" 2> "$TMP/err"
 rc=$?
 if [ $rc -eq 0 ] && /usr/bin/python3 - "$TMP/out-valid/solid.h5" <<'PY'
@@ -78,7 +80,7 @@ import h5py
 f = h5py.File(sys.argv[1], "r")
 e = f["energies"]
 last = f["fields"][sorted(f["fields"])[-1]]
-ok = (f["status"][()] == b"complete" and abs(e["balance_error"][-1]) < 1e-6 * e["external"][-1]
+ok = (f["status"][()] == b"complete" and abs(e["balance_error"][-1]) < 2e-5 * e["external"][-1]
       and e["plastic"][-1] > 0.1 * e["external"][-1] and last["peeq"][:].max() > 0.1)
 sys.exit(0 if ok else 1)
 PY

@@ -147,10 +147,14 @@ TEST_P(Undex1d, AsWrittenAgainstExactSolutionOfItsWaterModel) {
 //   shock within 1.5 cells: redefining the real water cell next to the interface with the star state in
 //     the first steps, before the shock has crossed it, moves the shock ahead by up to one cell, plus half
 //     a cell of capturing (docs/gas_water_interface.md).
+// Every cell is solved (numerics.skip_rest off): this setting is ill-conditioned at the shock (changing the
+// gas pressure by 1e-13 relative moves the fields there by 9e-2 of their largest value at 1e-4 s, `undex run
+// cases/undex_1d.case` with the four settings below), and still water kept exact instead of drifting by
+// round-off is such a change: with skipping the shock lies +0.98 / +1.50 cells ahead (+0.70 / +1.42 without).
 TEST_P(Undex1d, PaperSettingAgainstExactSolutionOfItsWaterModel) {
-    const Undex1dRun r = run_undex_1d(
-        GetParam(), 400,
-        {"interface.method=real_gfm", "numerics.limiter=weno", "numerics.degree=2", "numerics.cfl=0.2"});
+    const Undex1dRun r = run_undex_1d(GetParam(), 400,
+                                      {"interface.method=real_gfm", "numerics.limiter=weno", "numerics.degree=2",
+                                       "numerics.cfl=0.2", "numerics.skip_rest=false"});
     EXPECT_LE(r.l1_share(), 0.01);
     EXPECT_LE(std::abs(r.interface_cells()), 1.0);
     EXPECT_LE(std::abs(r.shock_cells()), 1.5);
