@@ -16,7 +16,7 @@ for r in $(seq "$runs"); do
         "$bin/undex" run "$case" "$@" --set numerics.skip_rest=$skip -o "$tmp/run" --force > "$tmp/log" 2>&1
         line=$(grep 'undex-fluid: done:' "$tmp/log")
         wall=$(echo "$line" | sed -E 's/.*wall ([0-9.]+) s.*/\1/')
-        skipped=$(echo "$line" | grep -oE '[0-9.]+ % of [0-9.e+]+ cell updates skipped' | awk '{ print $1 }')
+        skipped=$(echo "$line" | grep -oE '[0-9.]+ % of [0-9.e+]+ cell updates skipped' | awk '{ print $1 }' || true)
         echo "run $r, skip_rest $skip: fluid wall $wall s${skipped:+, $skipped % of the cell updates skipped}"
         echo "$skip $wall" >> "$tmp/walls"
     done
