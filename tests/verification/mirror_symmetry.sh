@@ -50,18 +50,8 @@ run free_field_real free_field_2d diag,x,y --set domain.cells_x=64 --set domain.
     --set interface.method=real_gfm --set numerics.limiter=weno --set numerics.degree=2 --set numerics.cfl=0.2
 run free_field_original free_field_2d diag,x,y --set domain.cells_x=64 --set domain.cells_y=64 \
     --set interface.method=original_gfm
-# Axisymmetric geometry (the geometric source): a blast at the origin, mirror about z = 0.
-cat >"$dir/axi.case" <<'CASE'
-name: "axi" geometry: AXISYMMETRIC_2D
-domain { x_min: 0 x_max: 1 cells_x: 50 y_min: -1 y_max: 1 cells_y: 100 }
-materials { name: "air" stiffened_gas { gamma: 1.4 } }
-regions { material: "air" rho: 1 p: 0.1 }
-regions { material: "air" ball { radius: 0.3 } rho: 2 p: 2 }
-boundaries { x_min { type: SYMMETRY } x_max { type: TRANSMISSIVE } y_min { type: TRANSMISSIVE }
-             y_max { type: TRANSMISSIVE } }
-end_time: 0.3
-CASE
-cases=$dir run axisymmetric_blast axi y
+# Axisymmetric geometry (the geometric source): a blast at the origin (tests/cases), mirror about z = 0.
+cases=$tools/../cases run axisymmetric_blast axisymmetric_blast y
 # INCIDENT sides (fluid/boundary.hpp incident_ghost): a 50 MPa wave enters by all four sides, the waves
 # cross (corners, 2D interaction) and leave through the opposite sides; mirrors about x = 0, y = 0, x = y.
 cat >"$dir/incident.case" <<'CASE'
