@@ -27,7 +27,12 @@ struct Tait {
         return liquid_pressure(rho);
     }
     double sound_speed(double rho, double p) const {
-        if (cavitation && p <= cav.p_cav) return p < cav.p_cav ? cav.mixture_sound_speed(p) : cav.a_sat;
+        if (cavitation && p <= cav.p_cav) {
+            if (p == cav.p_cav) return cav.a_sat;
+            // The mixture is barotropic: at its own density the vapour's share comes from the table; a state
+            // with the liquid's density (a boundary's, on the liquid's isentrope) from p alone.
+            return rho < cav.rho_sat ? cav.mixture_sound_speed(rho, p) : cav.mixture_sound_speed(p);
+        }
         return std::sqrt(gamma * (p + B - A) / rho);
     }
     // Energy of the equivalent stiffened gas (P∞ = B − A), so that E is well defined for output and for

@@ -27,10 +27,13 @@ BAD = os.path.join(HERE, "bad_peer.py")
 TIMEOUT = 2.0
 
 
-def make_case(name, source, structure=None, extra=""):
+def make_case(name, source, structure=None, extra="", refine=1):
+    """The case file SOURCE written for this test; REFINE multiplies its fluid cells (a run stopped by a
+    signal mid-way must still be stepping a second or two after it started)."""
     out = os.path.join(WORK, name)
     os.makedirs(out, exist_ok=True)
     text = open(os.path.join(CASES, source)).read()
+    text = re.sub(r"cells_x: (\d+)", lambda m: f"cells_x: {int(m.group(1)) * refine}", text)
     if structure is not None:
         start = text.index("\nstructure {")
         stop = text.index("\n}\n", start) + 3
@@ -91,8 +94,8 @@ for mode, pattern in expected_fluid.items():
 
 # 3. SIGKILL of either side mid-run: the other notices the closed connection at once, names the peer and the
 # step, writes its last good state; the killed side's output stays readable.
-def kill_mid_run(victim, source, name):
-    out, path = make_case(name, source)
+def kill_mid_run(victim, source, name, refine):
+    out, path = make_case(name, source, refine=refine)
     launcher = subprocess.Popen([os.path.join(BIN, "undex"), "run", path], stdout=subprocess.PIPE,
                                 stderr=subprocess.STDOUT, text=True)
     # Wait until both sides step (the fluid's first progress line), then kill the victim.
@@ -102,7 +105,7 @@ def kill_mid_run(victim, source, name):
         time.sleep(0.2)
         log = os.path.join(out, "fluid.log")
         if os.path.exists(log) and "coupled to" in open(log).read():
-            time.sleep(1.0)  # well into the stepping; the runs take 10 s or more
+            time.sleep(1.0)  # well into the stepping, past the first output; the runs take 5 s or more
             p = subprocess.run(["pgrep", "-f", f"{victim} {path}"], capture_output=True, text=True)
             pid = int(p.stdout.split()[0]) if p.stdout.split() else None
     if pid is None:
@@ -135,8 +138,8 @@ def kill_mid_run(victim, source, name):
     check(not problems, f"SIGKILL {victim}: time steps from both records ({steps})", "\n".join(problems))
 
 
-kill_mid_run("undex-rigid", "taylor_plate_1d.case", "kill_structure")
-kill_mid_run("undex-fluid", "sandwich_shock_1d.case", "kill_fluid")
+kill_mid_run("undex-rigid", "taylor_plate_1d.case", "kill_structure", 2)  # 1.2 s as shipped, 5 s refined
+kill_mid_run("undex-fluid", "sandwich_shock_1d.case", "kill_fluid", 10)  # 1.0 s as shipped
 
 # 4. An endpoint already in use: the second fluid refuses it and the first keeps it.
 out, path = make_case("endpoint", "taylor_plate_1d.case")
@@ -166,7 +169,7 @@ check(r.returncode != 0 and f"cannot bind endpoint {busy}" in r.stdout,
       "undex run on a tcp port it cannot bind: both sides stop, the cause named", r.stdout[-1500:])
 
 # 5. SIGINT to undex run (Ctrl-C): both sides stop at their next step and write their last good state.
-out, path = make_case("interrupt", "sandwich_shock_1d.case")
+out, path = make_case("interrupt", "sandwich_shock_1d.case", refine=10)
 launcher = subprocess.Popen([os.path.join(BIN, "undex"), "run", path], stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
 deadline = time.monotonic() + 60

@@ -91,14 +91,19 @@ TEST(Cavitation, SoundSpeedIsTheSlopeOfPressureOverTheWholeRange) {
     EXPECT_NEAR(c_sat * c_sat / c2_sat, 1.0, 4e-9);
 }
 
-// The mixture's p(ρ) inversion (fluid/cavitation.hpp: a closed-form start and Newton in q = (p/p_cav)^(−1/γg))
-// against bisection of the density relation in long double, in ln p, 200 halvings of [−60, ln p_cav], at the
-// same double ρ. The inversion is ill-conditioned next to p_cav (a relative change δ of ρ moves p by about
-// γg δ / α0 ≈ 1.4e5 δ), so ρ's own rounding (1e-16) bounds what any solver in double can reach at about
-// 1.5e-11; long double's 1e-19 keeps the reference 1000 times closer. Densities run from just below the
-// saturated mixture's (p = p_cav (1 − 1e-12)) by factors 1.3 in p down to 1e-26 Pa. Largest relative error
-// measured 8.8e-12, bound 1e-10. Broken on purpose, it fails: Newton steps halved 4.1e-8 (20 steps do not
-// reach the root), the closed-form start doubled 0.57, the liquid term taken as 1 4.1e-2.
+// The mixture's p(ρ) (fluid/cavitation.hpp: a cubic Hermite table in t = kρ/(M − ρ) on octaves of t, and
+// Newton in q = (p/p_cav)^(−1/γg) below the table's last octave, 2^−40) against bisection of the density
+// relation in long double, in ln p, 200 halvings of [−60, ln p_cav], at the same double ρ. The inversion is
+// ill-conditioned next to p_cav (a relative change δ of ρ moves p by about γg δ / α0 ≈ 1.4e5 δ), so ρ's own
+// rounding (1e-16) bounds what any solver in double can reach at about 1.5e-11; long double's 1e-19 keeps
+// the reference 1000 times closer. Densities run from just below the saturated mixture's (p = p_cav (1 −
+// 1e-12)) by factors 1.004 in p down to 1e-26 Pa: about 3 points per table interval near p_cav (128 per
+// octave of t, an octave of t about 1.4 of p), so that every interval is visited off its nodes, and the
+// Newton branch from about 1e-13 Pa down. Largest relative error measured 4.4e-12 (the table's own at its
+// midpoints: 5.1e-12), bound 1e-10. Broken on purpose, it fails: the position in an interval off by 1e-3 of
+// it 1.1e-5, the nodes read one interval late 0.86, the Newton start doubled 0.62; a wrong slope column (its
+// sign, or the next node's slope dropped) fails finalize's own midpoint check (1.4e-7, 1.7e-4), which leaves
+// the table out (Newton everywhere, 3.7e-11), and so the check of 40 octaves below.
 TEST(Cavitation, MixturePressureInvertsTheDensityRelationOverTheWholeRange) {
     const Tait water = cavitating_water();
     using LD = long double;
@@ -109,7 +114,7 @@ TEST(Cavitation, MixturePressureInvertsTheDensityRelationOverTheWholeRange) {
     };
     double worst = 0;
     int points = 0;
-    for (LD p = p_cav * (1 - 1e-12L); p > 1e-26L; p /= 1.3L, ++points) {
+    for (LD p = p_cav * (1 - 1e-12L); p > 1e-26L; p /= 1.004L, ++points) {
         const double rho = double(rho_of(p));
         LD lo = -60, hi = std::log(LD(p_cav));
         for (int i = 0; i < 200; ++i) {
@@ -121,6 +126,31 @@ TEST(Cavitation, MixturePressureInvertsTheDensityRelationOverTheWholeRange) {
         worst = std::max(worst, err);
         EXPECT_LT(err, 1e-10) << "rho = " << rho << " kg/m^3, p = " << double(p_ref) << " Pa";
     }
-    EXPECT_GT(points, 250); // 258: the whole range was visited
-    std::printf("mixture p(rho): largest relative error %.2e over %d points\n", worst, points);
+    EXPECT_GT(points, 16000); // 16 894: the whole range was visited
+    std::printf("mixture p(rho): largest relative error %.2e over %d points (table: %d octaves of %d, %.2e)\n",
+                worst, points, water.cav.table_octaves, water.cav.table_n, water.cav.table_error);
+    EXPECT_EQ(water.cav.table_octaves, 40); // the table, not Newton, above 1e-13 Pa
+}
+
+// The mixture's sound speed at its own density (the vapour's u = (p/p_cav)^(1/γg) read from the table in ρ)
+// against the same Wood formula with u = pow(p/p_cav, 1/γg) from the pressure alone (the branch of states on
+// the liquid's isentrope; checked against the slope of p(ρ) above), over the mixture range by factors 1.004
+// in p, with p the exact pressure of the density: the two differ only by the table's u. Largest relative
+// difference measured 9.7e-12, bound 1e-10 (the table's accuracy). Broken on purpose (u read from the p
+// column) it fails by 25.
+TEST(Cavitation, SoundSpeedFromTheDensityMatchesTheSoundSpeedFromThePressure) {
+    const Tait water = cavitating_water();
+    double worst = 0;
+    int points = 0;
+    for (double p = p_cav * (1 - 1e-9); p > 1e-26; p /= 1.004, ++points) {
+        const double rho = mixture_density(p);
+        const double from_rho = water.cav.mixture_sound_speed(rho, p), from_p = water.cav.mixture_sound_speed(p);
+        worst = std::max(worst, std::abs(from_rho / from_p - 1));
+        EXPECT_NEAR(from_rho / from_p, 1.0, 1e-10) << "p = " << p << " Pa, rho = " << rho;
+        // Tait::sound_speed takes the density's branch inside the mixture's densities.
+        EXPECT_EQ(water.sound_speed(rho, p), from_rho);
+    }
+    EXPECT_GT(points, 16000);
+    std::printf("sound speed from rho against from p: largest relative difference %.2e over %d points\n", worst,
+                points);
 }
