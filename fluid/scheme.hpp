@@ -49,6 +49,9 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 for (int side = 0; side < 2; ++side)
                     for (int g = 0; g < NQF; ++g)
                         points_[l][k++] = tab_.face[dir][side][g][l];
+            point_max_[l] = 0.0;
+            for (int k = 0; k < NP; ++k)
+                point_max_[l] = std::max(point_max_[l], std::abs(points_[l][k]));
         }
     }
 
@@ -149,16 +152,13 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         scaled_ = 0;
         try {
             // Stage 1: U1 = U + dt L(U)
-            compute_rhs(u_, time_);
-            axpy(stage_, 1.0, u0_, 0.0, u0_, dt);
+            stage_update(u_, time_, {stage_, 1.0, u0_, 0.0, dt});
             limit(stage_, time_ + dt, "stage 1");
             // Stage 2: U2 = 3/4 U + 1/4 (U1 + dt L(U1))
-            compute_rhs(stage_, time_ + dt);
-            axpy(u_, 0.75, u0_, 0.25, stage_, 0.25 * dt);
+            stage_update(stage_, time_ + dt, {u_, 0.75, u0_, 0.25, 0.25 * dt});
             limit(u_, time_ + 0.5 * dt, "stage 2");
             // Stage 3: U = 1/3 U + 2/3 (U2 + dt L(U2))
-            compute_rhs(u_, time_ + 0.5 * dt);
-            axpy(stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, u_, 2.0 / 3.0 * dt);
+            stage_update(u_, time_ + 0.5 * dt, {stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, 2.0 / 3.0 * dt});
             limit(stage_, time_ + dt, "stage 3");
         } catch (const SolverFailure& f) {
             u_ = u0_;
@@ -368,6 +368,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     // φ_l at every volume and face quadrature point: the points where positivity is enforced.
     static constexpr int NP = NQV + 2 * D * NQF;
     double points_[NB][NP];
+    double point_max_[NB]; // max over the points of |φ_l|
     std::vector<double> u_, u0_, stage_, rhs_, fx_, fy_;
     std::vector<char> troubled_flag_;
     double time_ = 0.0, last_dt_ = 0.0;
@@ -544,6 +545,26 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         return euler::pressure<D>(eos_, q);
     }
 
+    // A Runge–Kutta stage from U: out = a·x + b·U + bdt·L(U) (b·dt folded into bdt), U neither x nor out.
+    struct Stage {
+        std::vector<double>& out;
+        double a;
+        const std::vector<double>& x;
+        double b, bdt;
+    };
+    // Without absorbing layers the update is written by the volume loop of compute_rhs as each cell's L(U) is
+    // known (one pass over the arrays fewer); the layers' relaxation adds to L(U) afterwards, so with them
+    // L(U) goes to rhs_ first.
+    void stage_update(std::vector<double>& U, double t, const Stage& st) {
+        if (layer_cell_.empty()) {
+            compute_rhs(U, t, &st);
+            return;
+        }
+        compute_rhs(U, t, nullptr);
+        relax_layers(U.data());
+        axpy(st.out, st.a, st.x, st.b, U, st.bdt);
+    }
+
     // out = a·x + b·(y + dt·rhs)  (b·dt folded into `bdt`)
     void axpy(std::vector<double>& out, double a, const std::vector<double>& x, double b,
               const std::vector<double>& y, double bdt) {
@@ -569,8 +590,12 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 
     // Long on purpose (about 115 lines): the hot loop of the solver, kept in one piece so that its stages
     // (face fluxes, volume integrals, source, face integrals) share the per-cell locals and inline freely.
-    void compute_rhs(std::vector<double>& Uvec, double t) {
+    // L(U) into rhs_ (st null), or the stage st written straight from it.
+    void compute_rhs(std::vector<double>& Uvec, double t, const Stage* st) {
         double* U = Uvec.data();
+        double* out = st ? st->out.data() : nullptr;
+        const double* xs = st ? st->x.data() : nullptr;
+        const double sa = st ? st->a : 0.0, sb = st ? st->b : 0.0, sbdt = st ? st->bdt : 0.0;
         fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
         if (stage_ghosts_) stage_ghosts_(U);
         const int nx = mesh_.nx, ny = mesh_.ny;
@@ -619,7 +644,12 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         for (int j = 0; j < ny; ++j)
             for (int i = lo_[j]; i < hi_[j]; ++i) {
                 if (!active(i, j)) {
-                    std::fill_n(cell(rhs_.data(), i, j), NC, 0.0);
+                    if (out) {
+                        const long k0 = static_cast<long>(mesh_.index(i, j)) * NC;
+                        for (long k = k0; k < k0 + NC; ++k)
+                            out[k] = sa * xs[k] + sb * U[k] + sbdt * 0.0;
+                    } else
+                        std::fill_n(cell(rhs_.data(), i, j), NC, 0.0);
                     continue;
                 }
                 const double* c = cell(U, i, j);
@@ -634,16 +664,25 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                     if constexpr (D == 2)
                         euler::flux<NV, 1>(euler::AtPoint{s, q}, w.v, w.p, euler::AtPoint{G, q});
                 }
+                // ∫ F ∂φ/∂x + G ∂φ/∂y: ∂φ/∂x vanishes for the modes constant in ξ and ∂φ/∂y for those constant
+                // in η (tabulated as exact zeros), so only the other term is summed (the same value).
                 if constexpr (K > 0)
-                    for (int v = 0; v < NV; ++v)
-                        for (int l = 1; l < NB; ++l) {
+                    for (int l = 1; l < NB; ++l) {
+                        const bool in_x = B::px(l) > 0, in_y = D == 2 && B::py(l) > 0;
+                        for (int v = 0; v < NV; ++v) {
                             double t[NQV];
-                            for (int q = 0; q < NQV; ++q) {
-                                t[q] = F[v][q] * vol_.wdx[l][q];
-                                if constexpr (D == 2) t[q] += G[v][q] * vol_.wdy[l][q];
-                            }
+                            if (in_x && in_y)
+                                for (int q = 0; q < NQV; ++q)
+                                    t[q] = F[v][q] * vol_.wdx[l][q] + G[v][q] * vol_.wdy[l][q];
+                            else if (in_x)
+                                for (int q = 0; q < NQV; ++q)
+                                    t[q] = F[v][q] * vol_.wdx[l][q];
+                            else
+                                for (int q = 0; q < NQV; ++q)
+                                    t[q] = G[v][q] * vol_.wdy[l][q];
                             acc[v][l] = B::point_sum(t);
                         }
+                    }
                 if (alpha != 0.0) {
                     // S = −(α/x)(ρu, ρu², ρuv, (E+p)u): the x flux without its pressure term.
                     double S[NV][NQV];
@@ -685,12 +724,20 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                         }
                         acc[v][l] += faces;
                     }
-                double* r = cell(rhs_.data(), i, j);
-                for (int v = 0; v < NV; ++v)
-                    for (int l = 0; l < NB; ++l)
-                        r[v * NB + l] = acc[v][l] * tab_.inv_norm[l];
+                if (out) {
+                    const long k0 = static_cast<long>(mesh_.index(i, j)) * NC;
+                    for (int v = 0; v < NV; ++v)
+                        for (int l = 0; l < NB; ++l) {
+                            const long k = k0 + v * NB + l;
+                            out[k] = sa * xs[k] + sb * U[k] + sbdt * (acc[v][l] * tab_.inv_norm[l]);
+                        }
+                } else {
+                    double* r = cell(rhs_.data(), i, j);
+                    for (int v = 0; v < NV; ++v)
+                        for (int l = 0; l < NB; ++l)
+                            r[v * NB + l] = acc[v][l] * tab_.inv_norm[l];
+                }
             }
-        if (!layer_cell_.empty()) relax_layers(U);
     }
 
     // Indicator + limiter + positivity on Uvec; throws SolverFailure for a cell that cannot be made
@@ -1012,9 +1059,10 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                     continue;
                 }
                 if (!scale) continue;
+                const double rho_floor = eps * avg[0];
+                if (clear_of_floors(c, avg, rho_floor, p_avg)) continue;
                 // One pass finds the smallest density and pressure margin over the points; most cells need
                 // nothing more.
-                const double rho_floor = eps * avg[0];
                 double Q[NV][NP];
                 at_points(c, points_, Q);
                 double rho_min = avg[0], m_min = 1e300;
@@ -1051,6 +1099,37 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             }
         scaled_ += count;
         if (bad_i >= 0) fail_cell(bad_i, bad_j, bad_what, t);
+    }
+
+    // Whether cell c is admissible at every point by bounds alone, without evaluating it there (positivity's
+    // fast path; the same answer as the points give wherever it says yes). Each variable lies within
+    // avg ± Σ_l≥1 |c_l| max|φ_l| at the points; the density's lower bound must clear rho_floor, and for the
+    // stiffened gas (whose p depends on ρe alone and increases with it) ρe ≥ E_lo − |m|²_hi / (2 ρ_lo) must
+    // give a margin that clears the floor. Each bound is lowered by 1e-12 of its magnitudes, far above the
+    // rounding of these few operations.
+    bool clear_of_floors(const double* c, const double* avg, double rho_floor, double p_avg) const {
+        double spread[NV];
+        for (int v = 0; v < NV; ++v) {
+            double t = 0.0;
+            for (int l = 1; l < NB; ++l)
+                t += std::abs(c[v * NB + l]) * point_max_[l];
+            spread[v] = t;
+        }
+        const double rho_lo = avg[0] - spread[0] - 1e-12 * (avg[0] + spread[0]);
+        if (!(rho_lo >= rho_floor && rho_lo > 0)) return false;
+        if constexpr (Eos::barotropic) {
+            return true;
+        } else {
+            double m2 = 0.0;
+            for (int d = 0; d < D; ++d) {
+                const double m = std::abs(avg[1 + d]) + spread[1 + d];
+                m2 += m * m;
+            }
+            const double ke_hi = 0.5 * m2 / rho_lo;
+            const double e_lo = avg[E] - spread[E] - ke_hi - 1e-12 * (std::abs(avg[E]) + spread[E] + ke_hi);
+            return eos_.pressure_margin(eos_.pressure(rho_lo, e_lo)) >=
+                   set_.positivity_epsilon * eos_.pressure_margin(p_avg);
+        }
     }
 
     // The conserved state of cell c at N points, point-major: Q[v][k] = Σ_l c[v][l] φ_l(point k).
