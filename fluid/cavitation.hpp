@@ -114,6 +114,7 @@ struct CavitationModel {
     bool locate(double rho, Lookup& at) const {
         if (table_octaves == 0) return false;
         const double t = k * rho / (rho_sum - rho);
+        if (!(t > 0.0)) return false; // ρ ≤ 0 or NaN: Newton's NaN (or floor), never a read outside the table
         if (!(t < 1.0)) { // ρ at ρ_sat to rounding: the last node
             at.node = table->data() + (table_n - 1) * 4;
             at.s = 1.0;

@@ -154,3 +154,15 @@ TEST(Cavitation, SoundSpeedFromTheDensityMatchesTheSoundSpeedFromThePressure) {
     std::printf("sound speed from rho against from p: largest relative difference %.2e over %d points\n", worst,
                 points);
 }
+
+// A density the mixture cannot hold (negative, or NaN) gives no finite pressure, so that the solver's
+// admissibility checks name the cell: the table is not read outside its range. Broken on purpose (no check
+// of t > 0 before the octave is taken from its bits), −1 kg/m³ reads before the table and NaN the last node:
+// both give finite pressures.
+TEST(Cavitation, InadmissibleDensityGivesNoFinitePressure) {
+    const Tait water = cavitating_water();
+    for (double rho : {-1.0, -1e-300, std::nan("")}) {
+        EXPECT_FALSE(std::isfinite(water.cav.pressure(rho))) << "rho = " << rho;
+        EXPECT_FALSE(std::isfinite(water.pressure(rho, 0))) << "rho = " << rho;
+    }
+}
