@@ -2,12 +2,17 @@
 // fluid. Advection and reinitialisation use fifth-order WENO derivatives in Hamilton–Jacobi form (Jiang and
 // Peng, SISC 21, 2000) with TVD-RK3 (Shu–Osher); reinitialisation follows Sussman, Smereka and Osher
 // (JCP 114, 1994); constant extrapolation across the interface is first-order upwind (Aslam, JCP 193, 2004).
+// In 2D φ may live in a narrow band (Peng et al., JCP 155, 1999): the tube of cells with |φ| < tube_cells·h
+// is advected and reinitialised, and every cell outside holds ±tube_cells·h exactly, its side of the
+// interface; the work of a step then grows with the interface's length, not with the mesh.
 #pragma once
 #include "fluid/mesh.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 #include <vector>
 
 namespace undex::fluid {
@@ -19,7 +24,9 @@ class LevelSet {
     explicit LevelSet(const Mesh& mesh)
         : dim_(mesh.dim), nx_(mesh.nx), ny_(mesh.dim == 2 ? mesh.ny : 1), px_(nx_ + 2 * G), dx_(mesh.dx),
           dy_(mesh.dim == 2 ? mesh.dy : mesh.dx), phi_(static_cast<size_t>(nx_) * ny_, 0.0),
-          pad_(static_cast<size_t>(px_) * (dim_ == 2 ? ny_ + 2 * G : 1), 0.0) {}
+          pad_(static_cast<size_t>(px_) * (dim_ == 2 ? ny_ + 2 * G : 1), 0.0) {
+        rebuild_tube(true);
+    }
 
     int nx() const { return nx_; }
     int ny() const { return ny_; }
@@ -28,6 +35,33 @@ class LevelSet {
         s.io("pad", pad_);
         s.io("stage", stage_);
         s.io("rate", rate_);
+        s.io("tube_cells", tube_cells_);
+        s.io("tube", tube_);
+        s.io("near", near_);
+        s.io("reads", reads_);
+        s.io("mark", mark_);
+    }
+
+    // The narrow band: `cells` > 0 keeps φ in the tube |φ| < cells·h (2D only; 1D φ is redistanced exactly
+    // over the whole line), 0 over the whole mesh. Clamps φ outside the tube. Also to be called after φ
+    // was written through operator() or set().
+    void set_tube(int cells) {
+        tube_cells_ = dim_ == 2 ? cells : 0;
+        rebuild_tube(true);
+    }
+    // Half-width of the tube (infinite without one).
+    double tube_width() const {
+        return tube_cells_ > 0 ? tube_cells_ * std::max(dx_, dy_) : std::numeric_limits<double>::infinity();
+    }
+    // The cells of the tube (every cell without one), in increasing index (row-major), and the cells within
+    // one cell of the tube, its 8-neighbours included (in no order): φ changes in these only, and a
+    // neighbour of a tube cell always lies among them.
+    const std::vector<int>& tube() const { return tube_; }
+    const std::vector<int>& near_tube() const { return near_; }
+    // Sets φ everywhere (its size: the mesh's), then the tube from it.
+    void set(const std::vector<double>& phi) {
+        std::copy(phi.begin(), phi.end(), phi_.begin());
+        rebuild_tube(true);
     }
     double& operator()(int i, int j) { return phi_[static_cast<size_t>(j) * nx_ + i]; }
     double operator()(int i, int j) const { return phi_[static_cast<size_t>(j) * nx_ + i]; }
@@ -42,22 +76,24 @@ class LevelSet {
     }
 
     // One TVD-RK3 step of φ_t + w·∇φ = 0, each derivative upwinded by the sign of its velocity component.
+    // In a tube, w must vanish outside it; the tube follows φ afterwards.
     void advect(const std::vector<double>& wx, const std::vector<double>& wy, double dt) {
         rk3(dt, [&](const std::vector<double>& phi, std::vector<double>& rate) {
             fill_padded(phi);
+            const long n = static_cast<long>(near_.size());
 #pragma omp parallel for if (dim_ == 2)
-            for (int j = 0; j < ny_; ++j)
-                for (int i = 0; i < nx_; ++i) {
-                    const int c = j * nx_ + i, p = padded(i, j);
-                    if (wx[c] == 0.0 && (dim_ == 1 || wy[c] == 0.0)) {
-                        rate[c] = 0.0; // at rest: no derivative needed
-                        continue;
-                    }
-                    double r = -wx[c] * weno(p, 1, dx_, wx[c] < 0);
-                    if (dim_ == 2) r -= wy[c] * weno(p, px_, dy_, wy[c] < 0);
-                    rate[c] = r;
+            for (long k = 0; k < n; ++k) {
+                const int c = near_[k], i = c % nx_, j = c / nx_, p = padded(i, j);
+                if (wx[c] == 0.0 && (dim_ == 1 || wy[c] == 0.0)) {
+                    rate[c] = 0.0; // at rest: no derivative needed
+                    continue;
                 }
+                double r = -wx[c] * weno(p, 1, dx_, wx[c] < 0);
+                if (dim_ == 2) r -= wy[c] * weno(p, px_, dy_, wy[c] < 0);
+                rate[c] = r;
+            }
         });
+        rebuild_tube(false);
     }
 
     // Pseudo-time steps of φ_τ + S(φ0)(|∇φ| − 1) = 0 with the Godunov Hamiltonian. The smoothed sign
@@ -72,28 +108,28 @@ class LevelSet {
         }
         const double h = dim_ == 2 ? std::max(dx_, dy_) : dx_;
         const double dtau = 0.3 * (dim_ == 2 ? std::min(dx_, dy_) : dx_);
-        std::vector<double> sign0(phi_.size());
-        for (int j = 0; j < ny_; ++j)
-            for (int i = 0; i < nx_; ++i) {
-                const int c = j * nx_ + i;
-                const std::array<double, 2> g = gradient(i, j);
-                const double r = std::sqrt(phi_[c] * phi_[c] + (g[0] * g[0] + g[1] * g[1]) * h * h);
-                sign0[c] = r > 0 ? phi_[c] / r : 0.0;
-            }
+        std::vector<double>& sign0 = sign0_;
+        sign0.resize(phi_.size());
+        const long n = static_cast<long>(near_.size());
+        for (long k = 0; k < n; ++k) {
+            const int c = near_[k];
+            const std::array<double, 2> g = gradient(c % nx_, c / nx_);
+            const double r = std::sqrt(phi_[c] * phi_[c] + (g[0] * g[0] + g[1] * g[1]) * h * h);
+            sign0[c] = r > 0 ? phi_[c] / r : 0.0;
+        }
         for (int it = 0; it < iterations; ++it)
             rk3(dtau, [&](const std::vector<double>& phi, std::vector<double>& rate) {
                 fill_padded(phi);
 #pragma omp parallel for if (dim_ == 2)
-                for (int j = 0; j < ny_; ++j)
-                    for (int i = 0; i < nx_; ++i) {
-                        const int c = j * nx_ + i, p = padded(i, j);
-                        const double s = sign0[c];
-                        double grad2 = godunov2(weno(p, 1, dx_, false), weno(p, 1, dx_, true), s);
-                        if (dim_ == 2)
-                            grad2 += godunov2(weno(p, px_, dy_, false), weno(p, px_, dy_, true), s);
-                        rate[c] = -s * (std::sqrt(grad2) - 1.0);
-                    }
+                for (long k = 0; k < n; ++k) {
+                    const int c = near_[k], p = padded(c % nx_, c / nx_);
+                    const double s = sign0[c];
+                    double grad2 = godunov2(weno(p, 1, dx_, false), weno(p, 1, dx_, true), s);
+                    if (dim_ == 2) grad2 += godunov2(weno(p, px_, dy_, false), weno(p, px_, dy_, true), s);
+                    rate[c] = -s * (std::sqrt(grad2) - 1.0);
+                }
             });
+        rebuild_tube(false);
     }
 
     // Constant extrapolation I_τ + S(φ) n·∇I = 0 (paper eq. 33) into the unknown cells of the band
@@ -104,18 +140,23 @@ class LevelSet {
     // set 4-neighbours closer to the interface, and keeps its value if there is none.
     void extrapolate(const std::vector<double*>& fields, const std::vector<char>& known, double band) const {
         const double width = band * (dim_ == 2 ? std::max(dx_, dy_) : dx_);
+        if (!(width < tube_width()))
+            throw std::logic_error("LevelSet::extrapolate: the band reaches beyond the tube");
         std::vector<int> order;
-        for (int c = 0; c < nx_ * ny_; ++c)
+        for (const int c : tube_)
             if (!known[c] && std::abs(phi_[c]) <= width) order.push_back(c);
         std::sort(order.begin(), order.end(),
                   [&](int a, int b) { return std::abs(phi_[a]) < std::abs(phi_[b]); });
-        std::vector<char> set(known.begin(), known.end());
+        // set: known or already extrapolated (the cells of `order` visited so far, cleared again below).
+        std::vector<char>& visited = visited_;
+        visited.resize(phi_.size(), 0);
+        auto set = [&](int k) { return known[k] || visited[k]; };
         // A cell takes values only from known cells and from cells clearly closer to the interface (by more
         // than round-off): cells of (nearly) equal |φ|, such as mirror images across a symmetry axis, never
         // use each other's new values, so the visiting order of ties plays no part.
         const double tie = 1e-9 * width;
         auto usable = [&](int k, int c) {
-            return set[k] && (known[k] || std::abs(phi_[k]) < std::abs(phi_[c]) - tie);
+            return set(k) && (known[k] || std::abs(phi_[k]) < std::abs(phi_[c]) - tie);
         };
         for (int c : order) {
             const int i = c % nx_, j = c / nx_;
@@ -148,7 +189,7 @@ class LevelSet {
                         if (list[k] >= 0) pair[k / 2] += f[list[k]];
                     f[c] = (pair[0] + pair[1]) / found;
                 }
-                set[c] = 1;
+                visited[c] = 1;
                 continue;
             }
             for (double* f : fields) {
@@ -157,8 +198,10 @@ class LevelSet {
                     if (up[d] >= 0) m += w[d] * f[up[d]];
                 f[c] = m / wsum;
             }
-            set[c] = 1;
+            visited[c] = 1;
         }
+        for (const int c : order)
+            visited[c] = 0;
     }
 
     // Area (2D) or length (1D) of φ < 0 by the smoothed Heaviside of half-width ε = 1.5 h.
@@ -197,8 +240,97 @@ class LevelSet {
     int px_; // row stride of pad_
     double dx_, dy_;
     std::vector<double> phi_;
-    std::vector<double> pad_;          // φ with G ghost layers (in x only in 1D)
-    std::vector<double> stage_, rate_; // Runge–Kutta work arrays
+    std::vector<double> pad_;           // φ with G ghost layers (in x only in 1D)
+    std::vector<double> stage_, rate_;  // Runge–Kutta work arrays
+    std::vector<double> sign0_;         // work array of reinitialise
+    mutable std::vector<char> visited_; // work array of extrapolate, all 0 between calls
+
+    // The narrow band (set_tube). tube_: |φ| < tube_width(), sorted; near_: the tube and its 8-neighbours,
+    // the cells a step changes; reads_: the cells within G + 1 (a square) of the tube, which hold every cell
+    // a WENO stencil of near_ reads and every cell two steps of the tube can change. mark_: bit 2 in near_,
+    // bit 4 in reads_. Without a tube all three are every cell.
+    int tube_cells_ = 0;
+    std::vector<int> tube_, near_, reads_;
+    std::vector<char> mark_;
+
+  public:
+    // φ over reads_ and the lists, enough to take back one step of advection and reinitialisation (which
+    // change cells within two of the tube only).
+    struct Snapshot {
+        std::vector<int> tube, near, reads;
+        std::vector<double> values;
+    };
+    void save(Snapshot& s) const {
+        s.tube = tube_, s.near = near_, s.reads = reads_;
+        s.values.resize(reads_.size());
+        for (size_t k = 0; k < reads_.size(); ++k)
+            s.values[k] = phi_[reads_[k]];
+    }
+    void restore(const Snapshot& s) {
+        if (tube_cells_ > 0)
+            for (const int c : reads_)
+                mark_[c] = 0;
+        tube_ = s.tube, near_ = s.near, reads_ = s.reads;
+        for (size_t k = 0; k < reads_.size(); ++k)
+            phi_[reads_[k]] = s.values[k];
+        if (tube_cells_ > 0) {
+            for (const int c : reads_)
+                mark_[c] |= 4;
+            for (const int c : near_)
+                mark_[c] |= 2;
+        }
+    }
+
+  private:
+    // The tube from φ: from every cell (full) or from near_, the only cells whose φ changed since the last
+    // rebuild. Cells leaving the tube take ±tube_width(); a NaN stays in the tube, to be seen.
+    void rebuild_tube(bool full) {
+        const int n = nx_ * ny_;
+        if (tube_cells_ == 0) {
+            if (static_cast<int>(tube_.size()) != n) {
+                tube_.resize(n);
+                for (int c = 0; c < n; ++c)
+                    tube_[c] = c;
+                near_ = reads_ = tube_;
+            }
+            return;
+        }
+        const double w = tube_width();
+        auto keep = [&](int c) {
+            if (!(std::abs(phi_[c]) >= w)) return true;
+            phi_[c] = phi_[c] < 0 ? -w : w;
+            return false;
+        };
+        mark_.resize(n, 0);
+        tube_.clear();
+        if (full) {
+            std::fill(mark_.begin(), mark_.end(), 0);
+            for (int c = 0; c < n; ++c)
+                if (keep(c)) tube_.push_back(c);
+        } else {
+            for (const int c : reads_)
+                mark_[c] = 0;
+            for (const int c : near_)
+                if (keep(c)) tube_.push_back(c);
+            std::sort(tube_.begin(), tube_.end());
+        }
+        near_.clear();
+        reads_.clear();
+        auto dilate = [&](int r, char bit, std::vector<int>& out) {
+            for (const int c : tube_) {
+                const int i = c % nx_, j = c / nx_;
+                for (int b = std::max(0, j - r); b <= std::min(ny_ - 1, j + r); ++b)
+                    for (int a = std::max(0, i - r); a <= std::min(nx_ - 1, i + r); ++a) {
+                        const int k = b * nx_ + a;
+                        if (mark_[k] & bit) continue;
+                        mark_[k] |= bit;
+                        out.push_back(k);
+                    }
+            }
+        };
+        dilate(1, 2, near_);
+        dilate(G + 1, 4, reads_);
+    }
 
     int padded(int i, int j) const {
         return (j + (dim_ == 2 ? G : 0)) * px_ + i + G;
@@ -218,7 +350,32 @@ class LevelSet {
     }
 
     // Interior values into pad_, ghosts by linear extrapolation along x, then along y (corners included).
+    // In a tube: the cells of reads_ (phi holds them; φ_ the others) and the ghosts next to them, the only
+    // values a stencil of near_ reads (corner ghosts are never read).
     void fill_padded(const std::vector<double>& phi) {
+        if (tube_cells_ > 0) {
+            const long n = static_cast<long>(reads_.size());
+            auto value = [&](int i, int j) {
+                const int k = j * nx_ + i;
+                return mark_[k] & 4 ? phi[k] : phi_[k];
+            };
+#pragma omp parallel for
+            for (long m = 0; m < n; ++m) {
+                const int c = reads_[m], i = c % nx_, j = c / nx_;
+                const double v = phi[c];
+                double* q = &pad_[padded(i, j)];
+                q[0] = v;
+                auto ghosts = [&](int s, double inner) {
+                    for (int k = 1; k <= G; ++k)
+                        q[k * s] = v + k * (v - inner);
+                };
+                if (i == 0) ghosts(-1, nx_ > 1 ? value(1, j) : v);
+                if (i == nx_ - 1) ghosts(1, nx_ > 1 ? value(i - 1, j) : v);
+                if (j == 0) ghosts(-px_, ny_ > 1 ? value(i, 1) : v);
+                if (j == ny_ - 1) ghosts(px_, ny_ > 1 ? value(i, j - 1) : v);
+            }
+            return;
+        }
         for (int j = 0; j < ny_; ++j) {
             double* row = &pad_[padded(0, j)];
             std::copy(&phi[j * nx_], &phi[j * nx_] + nx_, row);
@@ -278,19 +435,34 @@ class LevelSet {
     }
 
     // Shu–Osher TVD-RK3 on phi_ with the rate L(φ) computed by `rate_of(φ, L)`.
+    // The rate is needed on near_ only, and changes φ there; in a tube the stage holds φ on reads_ beyond.
     template <class Rate> void rk3(double dt, Rate&& rate_of) {
         const size_t n = phi_.size();
         stage_.resize(n);
         rate_.resize(n);
+        const long m = static_cast<long>(near_.size());
+        const int* cells = near_.data();
         rate_of(phi_, rate_);
-        for (size_t c = 0; c < n; ++c)
+        if (tube_cells_ > 0)
+            for (const int c : reads_)
+                stage_[c] = phi_[c];
+#pragma omp parallel for if (dim_ == 2)
+        for (long k = 0; k < m; ++k) {
+            const int c = cells[k];
             stage_[c] = phi_[c] + dt * rate_[c];
+        }
         rate_of(stage_, rate_);
-        for (size_t c = 0; c < n; ++c)
+#pragma omp parallel for if (dim_ == 2)
+        for (long k = 0; k < m; ++k) {
+            const int c = cells[k];
             stage_[c] = 0.75 * phi_[c] + 0.25 * (stage_[c] + dt * rate_[c]);
+        }
         rate_of(stage_, rate_);
-        for (size_t c = 0; c < n; ++c)
+#pragma omp parallel for if (dim_ == 2)
+        for (long k = 0; k < m; ++k) {
+            const int c = cells[k];
             phi_[c] = (phi_[c] + 2.0 * (stage_[c] + dt * rate_[c])) / 3.0;
+        }
     }
 };
 

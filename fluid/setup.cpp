@@ -379,6 +379,11 @@ void validate_interface(const CaseFile& cf) {
         if (!known(interface_riemann_names(), in.riemann()))
             cf.fail("interface.riemann", "unknown interface Riemann solver '" + in.riemann() +
                                              "'; choose one of " + choices(interface_riemann_names()));
+        if (in.tube_cells() > 0 && in.tube_cells() < in.band_cells() + 4)
+            cf.fail("interface.tube_cells",
+                    "the narrow band of " + std::to_string(in.tube_cells()) +
+                        " cells must reach 4 cells beyond the ghost band (band_cells + 4 = " +
+                        std::to_string(in.band_cells() + 4) + "), or be 0 (the whole mesh)");
     }
 }
 
@@ -761,6 +766,7 @@ std::unique_ptr<FluidSolver> make_solver(const CaseFile& cf) {
     is.band_cells = in.band_cells();
     is.reinit_every = in.reinit_every();
     is.reinit_iterations = in.reinit_iterations();
+    is.tube_cells = in.tube_cells();
     const auto eos_minus = eos_of(c.materials(material_index(c, other->material())), &c);
     if (wet)
         return std::visit(

@@ -33,6 +33,7 @@ struct InterfaceSettings {
     int band_cells = 3;        // ghost cells solved beyond the interface
     int reinit_every = 5;      // steps between reinitialisations of φ (0: never)
     int reinit_iterations = 3; // pseudo-time iterations per reinitialisation
+    int tube_cells = 0; // half-width of the level set's narrow band in 2D (LevelSet::set_tube), 0: none
 };
 
 template <int D, int K, EquationOfState EosM, EquationOfState EosP>
@@ -58,6 +59,7 @@ class TwoFluid final : public FluidSolver {
         for (int j = 0; j < mesh_.ny; ++j)
             for (int i = 0; i < mesh_.nx; ++i)
                 phi_(i, j) = phi(mesh_.xc(i), mesh_.yc(j));
+        phi_.set_tube(set_.tube_cells);
         minus_.set_active(nullptr);
         plus_.set_active(nullptr);
         minus_.project(minus_at);
@@ -97,7 +99,7 @@ class TwoFluid final : public FluidSolver {
 
     void step(double dt) override {
         treat_interface();
-        phi_before_ = phi_.values();
+        phi_.save(phi_before_);
         try {
             minus_.step(dt);
         } catch (const SolverFailure& f) {
@@ -120,7 +122,7 @@ class TwoFluid final : public FluidSolver {
     void revert_step() {
         minus_.revert_step();
         plus_.revert_step();
-        set_level_set(phi_before_);
+        phi_.restore(phi_before_);
         update_masks();
     }
 
@@ -173,13 +175,10 @@ class TwoFluid final : public FluidSolver {
         s.io("active_p", active_p_);
         s.io("wx", wx_);
         s.io("wy", wy_);
-        s.io("phi_before", phi_before_);
     }
     void set_level_set(const std::vector<double>& phi) override {
         if (phi.size() != phi_.values().size()) throw std::runtime_error("level set does not match the mesh");
-        for (int j = 0; j < mesh_.ny; ++j)
-            for (int i = 0; i < mesh_.nx; ++i)
-                phi_(i, j) = phi[static_cast<long>(j) * mesh_.nx + i];
+        phi_.set(phi);
     }
 
     // Whether the point (x, y) lies in the minus fluid (by φ of its cell).
@@ -232,8 +231,8 @@ class TwoFluid final : public FluidSolver {
     LevelSet phi_;
     RiemannMaterial mat_m_, mat_p_;
     std::vector<char> active_m_, active_p_;
-    std::vector<double> wx_, wy_;    // extension velocity of the level set
-    std::vector<double> phi_before_; // φ at the start of the last step
+    std::vector<double> wx_, wy_;   // extension velocity of the level set
+    LevelSet::Snapshot phi_before_; // φ at the start of the last step
     const std::vector<char>* region_ = nullptr;
     // Work arrays of the interface treatment, kept between steps: allocating them afresh at every step cost
     // more than the treatment itself (zeroing and first-touch page faults, on one thread).
@@ -268,20 +267,22 @@ class TwoFluid final : public FluidSolver {
     };
     Fields fm_, fp_; // the minus and plus fluid's (work arrays, as un_)
 
-    // Every interior cell of f is written.
+    // The cells near the level set's tube (all cells without one) are written: the interface treatment
+    // reads no other.
     template <class S> void read_fields(const S& scheme, bool minus, Fields& f) const {
         const size_t n = static_cast<size_t>(mesh_.nx) * mesh_.ny;
         for (auto* a : {&f.rho, &f.u, &f.v, &f.p})
             if (a->size() != n) a->resize(n);
         if (f.known.size() != n) f.known.resize(n);
+        const std::vector<int>& cells = phi_.near_tube();
+        const long m = static_cast<long>(cells.size());
 #pragma omp parallel for schedule(static) if (D == 2)
-        for (int j = 0; j < mesh_.ny; ++j)
-            for (int i = 0; i < mesh_.nx; ++i) {
-                const Primitive w = scheme.cell_average(i, j);
-                const long k = at(i, j);
-                f.rho[k] = w.rho, f.u[k] = w.u, f.v[k] = w.v, f.p[k] = w.p;
-                f.known[k] = in_region(i, j) && (phi_(i, j) < 0) == minus;
-            }
+        for (long c = 0; c < m; ++c) {
+            const int k = cells[c], i = k % mesh_.nx, j = k / mesh_.nx;
+            const Primitive w = scheme.cell_average(i, j);
+            f.rho[k] = w.rho, f.u[k] = w.u, f.v[k] = w.v, f.p[k] = w.p;
+            f.known[k] = in_region(i, j) && (phi_(i, j) < 0) == minus;
+        }
     }
 
     // Weighted mean of the other fluid's real states around cell (i, j), favouring the cells that lie
@@ -331,29 +332,30 @@ class TwoFluid final : public FluidSolver {
         throw SolverFailure(s.str());
     }
 
-    // Interface cells: real cells with a 4-neighbour of the other fluid (within the region).
-    // Found in parallel, listed in row-major order.
+    // Interface cells: real cells with a 4-neighbour of the other fluid (within the region), all in the
+    // level set's tube. Found in parallel, listed in row-major order.
     std::vector<std::array<int, 2>> interface_cells() {
         const int nx = mesh_.nx, ny = mesh_.ny;
         cut_.resize(static_cast<size_t>(nx) * ny);
+        const std::vector<int>& tube = phi_.tube();
+        const long m = static_cast<long>(tube.size());
 #pragma omp parallel for schedule(static) if (D == 2)
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
-                cut_[at(i, j)] = 0;
-                if (!in_region(i, j)) continue;
-                const bool neg = phi_(i, j) < 0;
-                auto other = [&](int a, int b) { return in_region(a, b) && (phi_(a, b) < 0) != neg; };
-                bool cut = false;
-                if (i > 0) cut |= other(i - 1, j);
-                if (i + 1 < nx) cut |= other(i + 1, j);
-                if (D == 2 && j > 0) cut |= other(i, j - 1);
-                if (D == 2 && j + 1 < ny) cut |= other(i, j + 1);
-                cut_[at(i, j)] = cut;
-            }
+        for (long t = 0; t < m; ++t) {
+            const int i = tube[t] % nx, j = tube[t] / nx;
+            cut_[at(i, j)] = 0;
+            if (!in_region(i, j)) continue;
+            const bool neg = phi_(i, j) < 0;
+            auto other = [&](int a, int b) { return in_region(a, b) && (phi_(a, b) < 0) != neg; };
+            bool cut = false;
+            if (i > 0) cut |= other(i - 1, j);
+            if (i + 1 < nx) cut |= other(i + 1, j);
+            if (D == 2 && j > 0) cut |= other(i, j - 1);
+            if (D == 2 && j + 1 < ny) cut |= other(i, j + 1);
+            cut_[at(i, j)] = cut;
+        }
         std::vector<std::array<int, 2>> cells;
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i)
-                if (cut_[at(i, j)]) cells.push_back({i, j});
+        for (const int k : tube)
+            if (cut_[k]) cells.push_back({k % nx, k / nx});
         return cells;
     }
 
@@ -366,40 +368,41 @@ class TwoFluid final : public FluidSolver {
         const size_t n = static_cast<size_t>(nx) * ny;
         if (wx_.size() != n) wx_.resize(n);
         if (wy_.size() != n) wy_.resize(n);
+        // w vanishes outside the band: a cell leaves near_tube() only from beyond it.
+        const std::vector<int>& cells = phi_.near_tube();
+        const long m = static_cast<long>(cells.size());
 #pragma omp parallel for schedule(static) if (D == 2)
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
-                const long k = at(i, j);
-                const double f = phi_(i, j);
-                wx_[k] = wy_[k] = 0.0;
-                if (std::abs(f) > band || !in_region(i, j)) continue;
-                std::array<double, 2> nrm = phi_.normal(i, j);
-                if (D == 1) nrm = {nrm[0] >= 0 ? 1.0 : -1.0, 0.0};
-                wx_[k] = un[k] * nrm[0];
-                wy_[k] = un[k] * nrm[1];
-                const bool neg = f < 0;
-                if (set_.method != GhostMethod::Original) {
-                    // Ghost cells of the other fluid here.
-                    if (neg)
-                        plus_.set_cell_state(i, j, {fp.rho[k], fp.u[k], fp.v[k], fp.p[k]});
-                    else
-                        minus_.set_cell_state(i, j, {fm.rho[k], fm.u[k], fm.v[k], fm.p[k]});
-                } else {
-                    // Pressure and velocity of the real fluid, entropy of the ghost fluid.
-                    const Fields& real = neg ? fm : fp;
-                    const RiemannMaterial& gm = neg ? mat_p_ : mat_m_;
-                    const double s = neg ? sp[k] : sm[k];
-                    const double pbar =
-                        std::max(real.p[k] + gm.pi, 1e-6 * (std::abs(real.p[k]) + gm.pi + 1.0));
-                    const double rho =
-                        neg ? plus_.eos().entropy_density(s, pbar) : minus_.eos().entropy_density(s, pbar);
-                    const Primitive g{rho, real.u[k], real.v[k], pbar - gm.pi};
-                    if (neg)
-                        plus_.set_cell_state(i, j, g);
-                    else
-                        minus_.set_cell_state(i, j, g);
-                }
+        for (long c = 0; c < m; ++c) {
+            const int k = cells[c], i = k % nx, j = k / nx;
+            const double f = phi_(i, j);
+            wx_[k] = wy_[k] = 0.0;
+            if (std::abs(f) > band || !in_region(i, j)) continue;
+            std::array<double, 2> nrm = phi_.normal(i, j);
+            if (D == 1) nrm = {nrm[0] >= 0 ? 1.0 : -1.0, 0.0};
+            wx_[k] = un[k] * nrm[0];
+            wy_[k] = un[k] * nrm[1];
+            const bool neg = f < 0;
+            if (set_.method != GhostMethod::Original) {
+                // Ghost cells of the other fluid here.
+                if (neg)
+                    plus_.set_cell_state(i, j, {fp.rho[k], fp.u[k], fp.v[k], fp.p[k]});
+                else
+                    minus_.set_cell_state(i, j, {fm.rho[k], fm.u[k], fm.v[k], fm.p[k]});
+            } else {
+                // Pressure and velocity of the real fluid, entropy of the ghost fluid.
+                const Fields& real = neg ? fm : fp;
+                const RiemannMaterial& gm = neg ? mat_p_ : mat_m_;
+                const double s = neg ? sp[k] : sm[k];
+                const double pbar = std::max(real.p[k] + gm.pi, 1e-6 * (std::abs(real.p[k]) + gm.pi + 1.0));
+                const double rho =
+                    neg ? plus_.eos().entropy_density(s, pbar) : minus_.eos().entropy_density(s, pbar);
+                const Primitive g{rho, real.u[k], real.v[k], pbar - gm.pi};
+                if (neg)
+                    plus_.set_cell_state(i, j, g);
+                else
+                    minus_.set_cell_state(i, j, g);
             }
+        }
     }
 
     // Interface states, ghost bands and the extension velocity (physics.md §4, paper §3.2).
@@ -413,15 +416,17 @@ class TwoFluid final : public FluidSolver {
         std::vector<char>& un_known = un_known_;
         un.resize(n);
         un_known.resize(n);
+        const std::vector<int>& near = phi_.near_tube();
+        const long m = static_cast<long>(near.size());
 #pragma omp parallel for schedule(static) if (D == 2)
-        for (long k = 0; k < n; ++k)
-            un[k] = 0.0, un_known[k] = 0;
+        for (long c = 0; c < m; ++c)
+            un[near[c]] = 0.0, un_known[near[c]] = 0;
         // Original GFM: the entropy function of each fluid (EquationOfState::entropy), extrapolated from its
         // side.
         std::vector<double> sm, sp;
         if (set_.method == GhostMethod::Original) {
             sm.resize(n), sp.resize(n);
-            for (long k = 0; k < n; ++k) {
+            for (const int k : near) {
                 sm[k] = minus_.eos().entropy(fm.rho[k], fm.p[k]);
                 sp[k] = plus_.eos().entropy(fp.rho[k], fp.p[k]);
             }
