@@ -132,7 +132,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 if (D == 2) r = std::max(r, (std::abs(w.v) + a) / mesh_.dy);
                 inv = std::max(inv, r);
             }
-        if (asleep_ > 0) inv = std::max(inv, rest_rate_);  // the still water's own (|u| + a)/Δx
+        if (asleep_ > 0) inv = std::max(inv, rest_rate_); // the still water's own (|u| + a)/Δx
         return std::min(set_.cfl / inv, 1.0 / sigma_max_); // σΔt ≤ 1 in the absorbing layers
     }
 
@@ -441,9 +441,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     long solved_ = 0, asleep_ = 0;   // cells solved and cells asleep in the fluid's region (active_)
     long updates_ = 0, skipped_ = 0; // Σ over steps
     int ghost_reach_ = 0;
-    int reach() const {
-        return 3 * (2 + ghost_reach_);
-    }
+    int reach() const { return 3 * (2 + ghost_reach_); }
 
     void set_rest(const Primitive& w) {
         skip_ = true;
@@ -462,8 +460,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     bool disturbed(int i, int j) const {
         auto outside = [&](int side) {
             const BoundaryType t = bc_[side].type;
-            return t == BoundaryType::Pressure || t == BoundaryType::Incident ||
-                   t == BoundaryType::Structure || t == BoundaryType::Periodic;
+            return t == BoundaryType::Pressure || t == BoundaryType::Incident || t == BoundaryType::Structure ||
+                   t == BoundaryType::Periodic;
         };
         if ((i == 0 && outside(0)) || (i == mesh_.nx - 1 && outside(1))) return true;
         if (D == 2 && ((j == 0 && outside(2)) || (j == mesh_.ny - 1 && outside(3)))) return true;
@@ -698,9 +696,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                     if constexpr (D == 2)
                         euler::flux<NV, 1>(euler::AtPoint{s, q}, w.v, w.p, euler::AtPoint{G, q});
                 }
-                // ∫ F ∂φ/∂x + G ∂φ/∂y: ∂φ/∂x vanishes for the modes constant in ξ and ∂φ/∂y for those
-                // constant in η (tabulated as exact zeros), so only the other term is summed (the same
-                // value).
+                // ∫ F ∂φ/∂x + G ∂φ/∂y: ∂φ/∂x vanishes for the modes constant in ξ and ∂φ/∂y for those constant
+                // in η (tabulated as exact zeros), so only the other term is summed (the same value).
                 if constexpr (K > 0)
                     for (int l = 1; l < NB; ++l) {
                         const bool in_x = B::px(l) > 0, in_y = D == 2 && B::py(l) > 0;
