@@ -2,6 +2,9 @@
 // geometric source, TVD-RK3 (Shu–Osher), and after every stage the troubled-cell indicator, the simple
 // WENO limiter in characteristic variables and the Zhang–Shu positivity scaling.
 #pragma once
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include "fluid/basis.hpp"
 #include "fluid/boundary.hpp"
 #include "fluid/characteristic.hpp"
@@ -191,16 +194,19 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         active_changed();
     }
     // To be called whenever the mask's contents change: loops run over each row's span of active cells.
-    void active_changed() {
-        lo_.assign(mesh_.ny, 0);
-        hi_.assign(mesh_.ny, active_ || skip_ ? 0 : mesh_.nx);
-        solved_ = static_cast<long>(mesh_.nx) * mesh_.ny, asleep_ = 0;
-        if (!active_ && !skip_) return;
-        long solved = 0, asleep = 0;
-#pragma omp parallel for reduction(+ : solved, asleep) schedule(static) if (D == 2)
-        for (int j = 0; j < mesh_.ny; ++j) {
-            int lo = mesh_.nx, hi = 0;
-            for (int i = 0; i < mesh_.nx; ++i) {
+    void active_changed() { active_changed(0, mesh_.ny - 1); }
+    // The same when the mask (or the awake cells) changed in rows j0 … j1 only.
+    void active_changed(int j0, int j1) {
+        const int nx = mesh_.nx, ny = mesh_.ny;
+        if (static_cast<int>(row_solved_.size()) != ny || static_cast<int>(lo_.size()) != ny) {
+            lo_.assign(ny, 0), hi_.assign(ny, 0), row_solved_.assign(ny, 0), row_asleep_.assign(ny, 0);
+            j0 = 0, j1 = ny - 1;
+        }
+        j0 = std::max(0, j0), j1 = std::min(ny - 1, j1);
+#pragma omp parallel for schedule(static) if (D == 2)
+        for (int j = j0; j <= j1; ++j) {
+            int lo = nx, hi = 0, solved = 0, asleep = 0;
+            for (int i = 0; i < nx; ++i) {
                 const long k = mesh_.index(i, j);
                 if (active_ && !(*active_)[k]) continue;
                 if (skip_ && !awake_[k]) {
@@ -210,9 +216,12 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 ++solved;
                 lo = std::min(lo, i), hi = i + 1;
             }
-            if (hi > lo) lo_[j] = lo, hi_[j] = hi;
+            lo_[j] = hi > lo ? lo : 0, hi_[j] = hi > lo ? hi : 0;
+            row_solved_[j] = solved, row_asleep_[j] = asleep;
         }
-        solved_ = solved, asleep_ = asleep;
+        solved_ = asleep_ = 0;
+        for (int j = 0; j < ny; ++j)
+            solved_ += row_solved_[j], asleep_ += row_asleep_[j];
     }
 
     // Sets cell (i, j) to the constant polynomial of a primitive state.
@@ -271,6 +280,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             s.io("bc" + std::to_string(k) + ".u_I", bc_[k].u_I);
         }
         s.io("layer_cell", layer_cell_);
+        s.io("layer_row", layer_row_);
         s.io("layer_sigma", layer_sigma_);
         s.io("layer_ref", layer_ref_);
         s.io("sigma_max", sigma_max_);
@@ -371,18 +381,20 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     double time_ = 0.0, last_dt_ = 0.0;
     long steps_ = 0;
     const std::vector<char>* active_ = nullptr;
-    std::vector<int> lo_, hi_; // per row: the active cells lie in [lo, hi)
+    std::vector<int> lo_, hi_;                // per row: the active cells lie in [lo, hi)
+    std::vector<int> row_solved_, row_asleep_; // per row: its share of solved_ and asleep_
     std::function<void(double*)> stage_ghosts_;
 
     // Absorbing layers (BoundaryType::Absorbing): per layer cell, its padded index, relaxation rate σ and
     // reference coefficients (the initial data).
-    std::vector<long> layer_cell_;
+    std::vector<long> layer_cell_, layer_row_;
     std::vector<double> layer_sigma_, layer_ref_;
     double sigma_max_ = 0.0;
 
     // σ of every cell inside a layer, summed over the sides (corners take both), from the initial data.
     void capture_layers() {
         layer_cell_.clear(), layer_sigma_.clear(), layer_ref_.clear();
+        layer_row_.assign(mesh_.ny + 1, 0);
         sigma_max_ = 0.0;
         for (int j = 0; j < mesh_.ny; ++j)
             for (int i = 0; i < mesh_.nx; ++i) {
@@ -409,20 +421,32 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 layer_ref_.insert(layer_ref_.end(), c, c + NC);
                 sigma_max_ = std::max(sigma_max_, sigma);
             }
+        // Rows of the layer cells (listed in row-major order): row j holds [layer_row_[j], layer_row_[j + 1]).
+        for (size_t k = 0; k < layer_cell_.size(); ++k)
+            layer_row_[D == 2 ? layer_cell_[k] / (mesh_.nx + 2) : 1] = static_cast<long>(k + 1);
+        for (int j = 1; j <= mesh_.ny; ++j)
+            layer_row_[j] = std::max(layer_row_[j], layer_row_[j - 1]);
     }
 
-    // dU/dt += −σ (U − U_ref) in the layers' active cells.
+    // dU/dt += −σ (U − U_ref) in the layers' active cells within the rows' spans (the cells the stage
+    // update reads L(U) of; layer_row_[j] is the first layer cell of row j, in row-major order).
     void relax_layers(const double* U) {
-        const long n = static_cast<long>(layer_cell_.size());
-#pragma omp parallel for schedule(static) if (D == 2)
-        for (long k = 0; k < n; ++k) {
-            const long c = layer_cell_[k];
-            if (active_ && !(*active_)[c]) continue;
-            const double* u = U + c * NC;
-            const double* ref = layer_ref_.data() + k * NC;
-            double* r = rhs_.data() + c * NC;
-            for (int m = 0; m < NC; ++m)
-                r[m] -= layer_sigma_[k] * (u[m] - ref[m]);
+        const int nx = mesh_.nx, rows = static_cast<int>(layer_row_.size()) - 1;
+#pragma omp parallel for schedule(dynamic, 8) if (D == 2)
+        for (int j = 0; j < rows; ++j) {
+            if (hi_[j] <= lo_[j]) continue;
+            for (long k = layer_row_[j]; k < layer_row_[j + 1]; ++k) {
+                const long c = layer_cell_[k];
+                const int i = static_cast<int>(c % (nx + 2)) - 1;
+                if (i < lo_[j]) continue;
+                if (i >= hi_[j]) break;
+                if (active_ && !(*active_)[c]) continue;
+                const double* u = U + c * NC;
+                const double* ref = layer_ref_.data() + k * NC;
+                double* r = rhs_.data() + c * NC;
+                for (int m = 0; m < NC; ++m)
+                    r[m] -= layer_sigma_[k] * (u[m] - ref[m]);
+            }
         }
     }
 
@@ -438,6 +462,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     bool skip_ = false, all_awake_ = false;
     double rest_[NC] = {}, rest_tol_[NV] = {}, rest_rate_ = 0;
     std::vector<char> awake_, near_; // awake_: padded cells; near_: work array of wake()
+    int woken_rows_[2] = {0, -1};    // work of wake(): the first and last row with a cell woken
     long solved_ = 0, asleep_ = 0;   // cells solved and cells asleep in the fluid's region (active_)
     long updates_ = 0, skipped_ = 0; // Σ over steps
     int ghost_reach_ = 0;
@@ -494,28 +519,45 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 h[i] = (h[i] & 2) || next - i <= R;
             }
         }
-        // Along y: a cell wakes if a row within R of its own is near.
+        // Along y: a cell wakes if a row within R of its own is near, counted per column over a window of
+        // rows that slides along each thread's block of rows (one pass over near_, not 2R + 1).
         long woken = 0;
-#pragma omp parallel if (D == 2)
+        woken_rows_[0] = ny, woken_rows_[1] = -1;
+#pragma omp parallel reduction(+ : woken) if (D == 2)
         {
-            std::vector<char> any(nx);
-#pragma omp for reduction(+ : woken) schedule(static)
-            for (int j = 0; j < ny; ++j) {
-                std::fill(any.begin(), any.end(), 0);
-                for (int r = std::max(0, j - R); r <= std::min(ny - 1, j + R); ++r) {
-                    const char* h = near_.data() + static_cast<long>(r) * nx;
-                    for (int i = 0; i < nx; ++i)
-                        any[i] |= h[i];
-                }
+            int threads = 1, thread = 0;
+#ifdef _OPENMP
+            threads = omp_get_num_threads(), thread = omp_get_thread_num();
+#endif
+            const int j0 = static_cast<int>(static_cast<long>(ny) * thread / threads);
+            const int j1 = static_cast<int>(static_cast<long>(ny) * (thread + 1) / threads);
+            std::vector<int> count(nx, 0);
+            auto add = [&](int r, int sign) {
+                const char* h = near_.data() + static_cast<long>(r) * nx;
+                for (int i = 0; i < nx; ++i)
+                    count[i] += sign * h[i];
+            };
+            for (int r = std::max(0, j0 - R); r < std::min(ny, j0 + R); ++r)
+                add(r, 1);
+            int first = ny, last = -1; // rows with cells woken
+            for (int j = j0; j < j1; ++j) {
+                if (j + R < ny) add(j + R, 1); // the window is now rows [j − R, j + R]
                 char* a = awake_.data() + mesh_.index(0, j);
+                long row = 0;
                 for (int i = 0; i < nx; ++i) {
-                    woken += any[i] && !a[i];
-                    a[i] |= any[i];
+                    const char any = count[i] > 0;
+                    row += any && !a[i];
+                    a[i] |= any;
                 }
+                if (row > 0) first = std::min(first, j), last = j;
+                woken += row;
+                if (j - R >= 0) add(j - R, -1);
             }
+#pragma omp critical(undex_wake_rows)
+            woken_rows_[0] = std::min(woken_rows_[0], first), woken_rows_[1] = std::max(woken_rows_[1], last);
         }
         if (woken == 0) return;
-        active_changed();
+        active_changed(woken_rows_[0], woken_rows_[1]);
         all_awake_ = awake_count() == static_cast<long>(nx) * ny; // no more scans
     }
     long awake_count() const {

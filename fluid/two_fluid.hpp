@@ -114,7 +114,7 @@ class TwoFluid final : public FluidSolver {
         phi_.advect(wx_, wy_, dt);
         if (set_.reinit_every > 0 && minus_.steps() % set_.reinit_every == 0)
             phi_.reinitialise(set_.reinit_iterations);
-        update_masks();
+        update_masks(phi_.tube());
     }
 
     // Takes back the last step (used when the fluid of another wet face fails in the same step): the state
@@ -135,6 +135,8 @@ class TwoFluid final : public FluidSolver {
         update_masks();
     }
     void active_changed() { update_masks(); }
+    // The region changed in rows j0 … j1 only.
+    void active_changed(int j0, int j1) { update_masks(j0, j1); }
     // The two schemes, and the scheme of the fluid in cell (i, j) (for code written for one or two fluids).
     template <class F> void for_each_scheme(F&& f) {
         f(minus_);
@@ -245,18 +247,35 @@ class TwoFluid final : public FluidSolver {
     double h() const { return D == 2 ? std::max(mesh_.dx, mesh_.dy) : mesh_.dx; }
 
     // Each fluid is active in its real region and within band_cells cells beyond the interface.
-    void update_masks() {
+    void update_masks() { update_masks(0, mesh_.ny - 1); }
+    void mask_cell(int i, int j, double band) {
+        const double f = phi_(i, j);
+        const bool in = in_region(i, j);
+        active_m_[mesh_.index(i, j)] = in && (f < 0 || f <= band);
+        active_p_[mesh_.index(i, j)] = in && (f >= 0 || -f <= band);
+    }
+    // Rows j0 … j1.
+    void update_masks(int j0, int j1) {
         const double band = set_.band_cells * h();
+        j0 = std::max(0, j0), j1 = std::min(mesh_.ny - 1, j1);
 #pragma omp parallel for schedule(static) if (D == 2)
-        for (int j = 0; j < mesh_.ny; ++j)
-            for (int i = 0; i < mesh_.nx; ++i) {
-                const double f = phi_(i, j);
-                const bool in = in_region(i, j);
-                active_m_[mesh_.index(i, j)] = in && (f < 0 || f <= band);
-                active_p_[mesh_.index(i, j)] = in && (f >= 0 || -f <= band);
-            }
-        minus_.active_changed();
-        plus_.active_changed();
+        for (int j = j0; j <= j1; ++j)
+            for (int i = 0; i < mesh_.nx; ++i)
+                mask_cell(i, j, band);
+        minus_.active_changed(j0, j1);
+        plus_.active_changed(j0, j1);
+    }
+    // The cells of `tube` (sorted) after φ changed, with the region unchanged: outside the level set's tube
+    // φ keeps its sign and lies beyond the band, so no other cell's mask changes.
+    void update_masks(const std::vector<int>& tube) {
+        if (tube.empty()) return;
+        const double band = set_.band_cells * h();
+        const long n = static_cast<long>(tube.size());
+#pragma omp parallel for schedule(static) if (D == 2)
+        for (long k = 0; k < n; ++k)
+            mask_cell(tube[k] % mesh_.nx, tube[k] / mesh_.nx, band);
+        minus_.active_changed(tube.front() / mesh_.nx, tube.back() / mesh_.nx);
+        plus_.active_changed(tube.front() / mesh_.nx, tube.back() / mesh_.nx);
     }
 
     // Fields of one fluid during the interface treatment: primitive state per interior cell.

@@ -322,6 +322,7 @@ template <int K, class M> class WetFluid final : public WetSolver {
         std::vector<double> phi;   // interior cells: signed distance to the face (±far() beyond the band)
         std::vector<long> near;    // cells whose distance was computed at the last rebuild
         std::vector<Ghost> ghosts; // the band set at every stage
+        int rows[2] = {0, -1};     // the rows of the cells near the face at the last two rebuilds
     };
     struct Nearest {
         double distance = std::numeric_limits<double>::infinity();
@@ -446,8 +447,15 @@ template <int K, class M> class WetFluid final : public WetSolver {
         const double reach = far();
         for (int f = 0; f < w.faces(); ++f) {
             Side& sd = *sides_[f];
-            for (const long c : sd.near)
+            sd.rows[0] = mesh_.ny, sd.rows[1] = -1;
+            auto row = [&](long c) {
+                const int j = static_cast<int>(c / mesh_.nx);
+                sd.rows[0] = std::min(sd.rows[0], j), sd.rows[1] = std::max(sd.rows[1], j);
+            };
+            for (const long c : sd.near) {
                 sd.phi[c] = sd.phi[c] < 0 ? -reach : reach;
+                row(c);
+            }
             sd.near.clear();
             for (int a = w.begin(f); a + 1 < w.end(f); ++a) {
                 // The segment, continued to the domain's far side along a ray at the face's ends.
@@ -483,6 +491,7 @@ template <int K, class M> class WetFluid final : public WetSolver {
                 nearest_[c] = Nearest{};
                 const double d = w.signed_distance(cp, mesh_.xc(i), mesh_.yc(j));
                 sd.phi[c] = d;
+                row(c);
                 if (d >= 0 && d < band) sd.ghosts.push_back({i, j, cp.a, cp.t, cp.nx, cp.ny, -1, -1});
             }
         }
@@ -504,10 +513,15 @@ template <int K, class M> class WetFluid final : public WetSolver {
                           << std::max(f, g) << ": the faces cross (a structure turned inside out?)";
                         fail(s.str());
                     }
-            for (int j = 0; j < mesh_.ny; ++j)
+            // φ changed near the face only (at this rebuild's and the last one's cells), unless first.
+            const int j0 = first ? 0 : sd.rows[0], j1 = first ? mesh_.ny - 1 : sd.rows[1];
+            for (int j = j0; j <= j1; ++j)
                 for (int i = 0; i < mesh_.nx; ++i)
                     sd.mask[mesh_.index(i, j)] = sd.phi[at(i, j)] < 0;
-            sd.scheme->active_changed();
+            if (first)
+                sd.scheme->active_changed();
+            else if (j1 >= j0)
+                sd.scheme->active_changed(j0, j1);
             // Each ghost cell's source: the first real cell along the normal from its closest point.
             for (Ghost& g : sd.ghosts) {
                 const double cx = w.x(g.a) + g.t * (w.x(g.a + 1) - w.x(g.a));
