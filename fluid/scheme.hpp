@@ -79,6 +79,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                                0.2386191860831969,  0.6612093864662645,  0.9324695142031521};
         const double wp[NP] = {0.1713244923791704, 0.3607615730481386, 0.4679139345726910,
                                0.4679139345726910, 0.3607615730481386, 0.1713244923791704};
+        check_all_ = true;
         for (int j = 0; j < mesh_.ny; ++j)
             for (int i = 0; i < mesh_.nx; ++i) {
                 double* c = cell(u_.data(), i, j);
@@ -250,6 +251,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         return euler::to_primitive<D>(eos_, euler::Strided<const double>{cell(U, i, j), NB});
     }
     void set_state_in(double* U, int i, int j, const Primitive& w) const {
+        if (skip_ && U == u_.data()) written_[mesh_.index(i, j)] = 1;
         double* c = cell(U, i, j);
         std::fill(c, c + NC, 0.0);
         euler::to_conserved<D>(eos_, w, euler::Strided<double>{c, NB});
@@ -260,6 +262,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     }
 
     void state(State& s) override {
+        check_all_ = true; // after loading, whatever was written
         s.io("u", u_);
         s.io("time", time_);
         s.io("last_dt", last_dt_);
@@ -304,6 +307,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 std::copy_n(in.begin() + (static_cast<long>(j) * mesh_.nx + i) * NC, NC,
                             cell(u_.data(), i, j));
         time_ = time;
+        check_all_ = true;
     }
 
     Primitive evaluate(double x, double y) const override {
@@ -462,6 +466,19 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     bool skip_ = false, all_awake_ = false;
     double rest_[NC] = {}, rest_tol_[NV] = {}, rest_rate_ = 0;
     std::vector<char> awake_, near_; // awake_: padded cells; near_: work array of wake()
+    // Cells not awake change only by what others write (wake): written_ (padded cells) marks those written
+    // into u by set_state_in since the last wake, check_all_ new data everywhere; per row, the cells not
+    // awake lie in [sleep_lo_, sleep_hi_).
+    mutable std::vector<char> written_;
+    bool check_all_ = true;
+    std::vector<int> sleep_lo_, sleep_hi_;
+    void sleep_span(int j) {
+        const char* a = awake_.data() + mesh_.index(0, j);
+        int lo = mesh_.nx, hi = 0;
+        for (int i = 0; i < mesh_.nx; ++i)
+            if (!a[i]) lo = std::min(lo, i), hi = i + 1;
+        sleep_lo_[j] = hi > lo ? lo : 0, sleep_hi_[j] = hi > lo ? hi : 0;
+    }
     int woken_rows_[2] = {0, -1};    // work of wake(): the first and last row with a cell woken
     long solved_ = 0, asleep_ = 0;   // cells solved and cells asleep in the fluid's region (active_)
     long updates_ = 0, skipped_ = 0; // Σ over steps
@@ -478,6 +495,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         rest_rate_ = a / mesh_.dx;
         if (D == 2) rest_rate_ = std::max(rest_rate_, a / mesh_.dy);
         awake_.assign(mesh_.padded_cells(), 0);
+        written_.assign(mesh_.padded_cells(), 0);
+        check_all_ = true;
     }
     // Whether cell (i, j) may change within a step even if all around it is at rest: it is not at rest, or
     // it lies on a side whose ghost cells hold data from outside (pressure, incident wave, 1D structure,
@@ -490,11 +509,13 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         };
         if ((i == 0 && outside(0)) || (i == mesh_.nx - 1 && outside(1))) return true;
         if (D == 2 && ((j == 0 && outside(2)) || (j == mesh_.ny - 1 && outside(3)))) return true;
+        // All NC coefficients compared without an early exit, so that the loop vectorises (most cells
+        // checked are at rest).
         const double* c = cell(u_.data(), i, j);
-        for (int v = 0; v < NV; ++v)
-            for (int l = 0; l < NB; ++l)
-                if (!(std::abs(c[v * NB + l] - rest_[v * NB + l]) <= rest_tol_[v])) return true; // NaN too
-        return false;
+        bool off = false;
+        for (int k = 0; k < NC; ++k)
+            off |= !(std::abs(c[k] - rest_[k]) <= rest_tol_[k / NB]); // NaN too
+        return off;
     }
     // Wakes every cell within reach() (a square) of a disturbed cell: at the start of a step, after whatever
     // set the step's data (the interface treatment, the structure's answer) and before a stage reads a cell.
@@ -503,22 +524,47 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         if (stage_ghosts_) stage_ghosts_(u_.data()); // the band as stage 1 will see it
         const int nx = mesh_.nx, ny = mesh_.ny, R = reach();
         near_.resize(static_cast<long>(nx) * ny);
+        if (check_all_ || static_cast<int>(sleep_lo_.size()) != ny) {
+            sleep_lo_.assign(ny, 0), sleep_hi_.assign(ny, 0);
+            for (int j = 0; j < ny; ++j)
+                sleep_span(j);
+        }
+        // Only a cell within R (a square) of a cell not awake can wake one: per row, the columns within R
+        // of the cells not awake in the rows within R. There, a cell not awake is read only if something
+        // other than its own update may have changed it (it is not updated): written since the last wake
+        // (set_state_in into u, marked in written_), in the last step's copy spans, or all after new data.
+        std::vector<int> from(ny), to(ny);
+        for (int j = 0; j < ny; ++j) {
+            int a = nx, b = 0;
+            for (int r = std::max(0, j - R); r <= std::min(ny - 1, j + R); ++r)
+                if (sleep_hi_[r] > sleep_lo_[r]) a = std::min(a, sleep_lo_[r]), b = std::max(b, sleep_hi_[r]);
+            from[j] = std::max(0, a - R), to[j] = std::min(nx, b + R);
+        }
         // Along x: near_ = 1 within R cells of a disturbed cell of the row.
 #pragma omp parallel for schedule(static) if (D == 2)
         for (int j = 0; j < ny; ++j) {
             char* h = near_.data() + static_cast<long>(j) * nx;
+            std::fill(h, h + nx, 0);
+            const int a = from[j], b = to[j];
+            if (b <= a) continue;
+            const int r = D == 2 ? j + 1 : 0;
+            const int c0 = copy_lo_.empty() ? 0 : copy_lo_[r], c1 = copy_lo_.empty() ? 0 : copy_hi_[r];
             int last = -2 * R - 2;
-            for (int i = 0; i < nx; ++i) {
-                h[i] = disturbed(i, j);
+            for (int i = a; i < b; ++i) {
+                const long k = mesh_.index(i, j);
+                const bool read = check_all_ || awake_[k] || written_[k] || (i >= c0 && i < c1);
+                written_[k] = 0;
+                h[i] = read && disturbed(i, j);
                 if (h[i]) last = i;
                 h[i] |= i - last <= R ? 2 : 0;
             }
             int next = nx + 2 * R + 2;
-            for (int i = nx - 1; i >= 0; --i) {
+            for (int i = b - 1; i >= a; --i) {
                 if (h[i] & 1) next = i;
                 h[i] = (h[i] & 2) || next - i <= R;
             }
         }
+        check_all_ = false;
         // Along y: a cell wakes if a row within R of its own is near, counted per column over a window of
         // rows that slides along each thread's block of rows (one pass over near_, not 2R + 1).
         long woken = 0;
@@ -549,7 +595,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                     row += any && !a[i];
                     a[i] |= any;
                 }
-                if (row > 0) first = std::min(first, j), last = j;
+                if (row > 0) first = std::min(first, j), last = j, sleep_span(j);
                 woken += row;
                 if (j - R >= 0) add(j - R, -1);
             }
