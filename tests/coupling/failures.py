@@ -17,6 +17,8 @@ import subprocess
 import sys
 import time
 
+import h5py
+
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 from checks import check, coupled_steps, finish, requested_times, status_of  # noqa: E402
@@ -92,6 +94,16 @@ for mode, pattern in expected_fluid.items():
           r.stdout[-1000:] + r.stderr[-1000:])
 
 
+def has_record(out, victim):
+    """Whether the victim's output holds the step record the checks below read."""
+    path, group = (("fluid.h5", "interface") if victim == "undex-fluid" else ("solid.h5", "coupling"))
+    try:
+        with h5py.File(os.path.join(out, path), "r") as f:
+            return group in f
+    except Exception:  # noqa: BLE001 - not written yet
+        return False
+
+
 # 3. SIGKILL of either side mid-run: the other notices the closed connection at once, names the peer and the
 # step, writes its last good state; the killed side's output stays readable.
 def kill_mid_run(victim, source, name, refine):
@@ -105,7 +117,11 @@ def kill_mid_run(victim, source, name, refine):
         time.sleep(0.2)
         log = os.path.join(out, "fluid.log")
         if os.path.exists(log) and "coupled to" in open(log).read():
-            time.sleep(1.0)  # well into the stepping, past the first output; the runs take 5 s or more
+            # Well into the stepping: once the victim's output holds its step record (its first output
+            # written; under load that can take longer than the 1 s waited before), then 1 s more.
+            while time.monotonic() < deadline and not has_record(out, victim):
+                time.sleep(0.2)
+            time.sleep(1.0)
             p = subprocess.run(["pgrep", "-f", f"{victim} {path}"], capture_output=True, text=True)
             pid = int(p.stdout.split()[0]) if p.stdout.split() else None
     if pid is None:
