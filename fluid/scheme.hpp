@@ -283,7 +283,11 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             s.io("bc" + std::to_string(k) + ".u_I", bc_[k].u_I);
         }
         s.io("layer_cell", layer_cell_);
-        s.io("layer_row", layer_row_);
+        if (s.loading()) {
+            layer_of_.assign(mesh_.padded_cells(), -1);
+            for (size_t k = 0; k < layer_cell_.size(); ++k)
+                layer_of_[layer_cell_[k]] = static_cast<int>(k);
+        }
         s.io("layer_sigma", layer_sigma_);
         s.io("layer_ref", layer_ref_);
         s.io("sigma_max", sigma_max_);
@@ -391,14 +395,15 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 
     // Absorbing layers (BoundaryType::Absorbing): per layer cell, its padded index, relaxation rate σ and
     // reference coefficients (the initial data).
-    std::vector<long> layer_cell_, layer_row_;
+    std::vector<long> layer_cell_;
+    std::vector<int> layer_of_; // per padded cell: its index among the layer cells, −1 outside the layers
     std::vector<double> layer_sigma_, layer_ref_;
     double sigma_max_ = 0.0;
 
     // σ of every cell inside a layer, summed over the sides (corners take both), from the initial data.
     void capture_layers() {
         layer_cell_.clear(), layer_sigma_.clear(), layer_ref_.clear();
-        layer_row_.assign(mesh_.ny + 1, 0);
+        layer_of_.assign(mesh_.padded_cells(), -1);
         sigma_max_ = 0.0;
         for (int j = 0; j < mesh_.ny; ++j)
             for (int i = 0; i < mesh_.nx; ++i) {
@@ -425,33 +430,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 layer_ref_.insert(layer_ref_.end(), c, c + NC);
                 sigma_max_ = std::max(sigma_max_, sigma);
             }
-        // Rows of the layer cells (listed in row-major order): row j holds [layer_row_[j], layer_row_[j + 1]).
         for (size_t k = 0; k < layer_cell_.size(); ++k)
-            layer_row_[D == 2 ? layer_cell_[k] / (mesh_.nx + 2) : 1] = static_cast<long>(k + 1);
-        for (int j = 1; j <= mesh_.ny; ++j)
-            layer_row_[j] = std::max(layer_row_[j], layer_row_[j - 1]);
-    }
-
-    // dU/dt += −σ (U − U_ref) in the layers' active cells within the rows' spans (the cells the stage
-    // update reads L(U) of; layer_row_[j] is the first layer cell of row j, in row-major order).
-    void relax_layers(const double* U) {
-        const int nx = mesh_.nx, rows = static_cast<int>(layer_row_.size()) - 1;
-#pragma omp parallel for schedule(dynamic, 8) if (D == 2)
-        for (int j = 0; j < rows; ++j) {
-            if (hi_[j] <= lo_[j]) continue;
-            for (long k = layer_row_[j]; k < layer_row_[j + 1]; ++k) {
-                const long c = layer_cell_[k];
-                const int i = static_cast<int>(c % (nx + 2)) - 1;
-                if (i < lo_[j]) continue;
-                if (i >= hi_[j]) break;
-                if (active_ && !(*active_)[c]) continue;
-                const double* u = U + c * NC;
-                const double* ref = layer_ref_.data() + k * NC;
-                double* r = rhs_.data() + c * NC;
-                for (int m = 0; m < NC; ++m)
-                    r[m] -= layer_sigma_[k] * (u[m] - ref[m]);
-            }
-        }
+            layer_of_[layer_cell_[k]] = static_cast<int>(k);
     }
 
     bool active(int i, int j) const {
@@ -672,31 +652,10 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         const std::vector<double>& x;
         double b, bdt;
     };
-    // Without absorbing layers the update is written by the volume loop of compute_rhs as each cell's L(U) is
-    // known (one pass over the arrays fewer); the layers' relaxation adds to L(U) afterwards, so with them
-    // L(U) goes to rhs_ first.
+    // The update is written by the volume loop of compute_rhs as each cell's L(U) is known, the absorbing
+    // layers' relaxation −σ (U − U_ref) included (no pass over the arrays of its own).
     void stage_update(std::vector<double>& U, double t, const Stage& st) {
-        if (layer_cell_.empty()) {
-            compute_rhs(U, t, &st);
-            return;
-        }
-        compute_rhs(U, t, nullptr);
-        relax_layers(U.data());
-        axpy(st.out, st.a, st.x, st.b, U, st.bdt);
-    }
-
-    // out = a·x + b·(y + dt·rhs)  (b·dt folded into `bdt`)
-    void axpy(std::vector<double>& out, double a, const std::vector<double>& x, double b,
-              const std::vector<double>& y, double bdt) {
-        const double* r = rhs_.data();
-#pragma omp parallel for schedule(static) if (D == 2)
-        for (int j = 0; j < mesh_.ny; ++j) {
-            if (hi_[j] == lo_[j]) continue;
-            const long k0 = static_cast<long>(mesh_.index(lo_[j], j)) * NC;
-            const long k1 = static_cast<long>(mesh_.index(hi_[j] - 1, j) + 1) * NC;
-            for (long k = k0; k < k1; ++k)
-                out[k] = a * x[k] + b * y[k] + bdt * r[k];
-        }
+        compute_rhs(U, t, st);
     }
 
     template <int Dir> static void eval_face(const double* c, const double (*phi)[NB], int g, double* q) {
@@ -710,12 +669,13 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 
     // Long on purpose (about 115 lines): the hot loop of the solver, kept in one piece so that its stages
     // (face fluxes, volume integrals, source, face integrals) share the per-cell locals and inline freely.
-    // L(U) into rhs_ (st null), or the stage st written straight from it.
-    void compute_rhs(std::vector<double>& Uvec, double t, const Stage* st) {
+    // The stage st written straight from L(U).
+    void compute_rhs(std::vector<double>& Uvec, double t, const Stage& st) {
         double* U = Uvec.data();
-        double* out = st ? st->out.data() : nullptr;
-        const double* xs = st ? st->x.data() : nullptr;
-        const double sa = st ? st->a : 0.0, sb = st ? st->b : 0.0, sbdt = st ? st->bdt : 0.0;
+        double* out = st.out.data();
+        const double* xs = st.x.data();
+        const double sa = st.a, sb = st.b, sbdt = st.bdt;
+        const bool layered = !layer_cell_.empty();
         fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
         if (stage_ghosts_) stage_ghosts_(U);
         const int nx = mesh_.nx, ny = mesh_.ny;
@@ -764,12 +724,15 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         for (int j = 0; j < ny; ++j)
             for (int i = lo_[j]; i < hi_[j]; ++i) {
                 if (!active(i, j)) {
-                    if (out) {
-                        const long k0 = static_cast<long>(mesh_.index(i, j)) * NC;
-                        for (long k = k0; k < k0 + NC; ++k)
-                            out[k] = sa * xs[k] + sb * U[k] + sbdt * 0.0;
-                    } else
-                        std::fill_n(cell(rhs_.data(), i, j), NC, 0.0);
+                    const long k0 = static_cast<long>(mesh_.index(i, j)) * NC;
+                    // A layer cell of the fluid's region that sleeps still relaxes (by 0 at rest).
+                    const int layer = layered ? layer_of_[mesh_.index(i, j)] : -1;
+                    const bool relax = layer >= 0 && (!active_ || (*active_)[mesh_.index(i, j)]);
+                    for (long k = k0; k < k0 + NC; ++k) {
+                        double r = 0.0;
+                        if (relax) r -= layer_sigma_[layer] * (U[k] - layer_ref_[layer * NC + (k - k0)]);
+                        out[k] = sa * xs[k] + sb * U[k] + sbdt * r;
+                    }
                     continue;
                 }
                 const double* c = cell(U, i, j);
@@ -844,19 +807,22 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                         }
                         acc[v][l] += faces;
                     }
-                if (out) {
-                    const long k0 = static_cast<long>(mesh_.index(i, j)) * NC;
+                const long k0 = static_cast<long>(mesh_.index(i, j)) * NC;
+                const int layer = layered ? layer_of_[mesh_.index(i, j)] : -1;
+                if (layer < 0)
                     for (int v = 0; v < NV; ++v)
                         for (int l = 0; l < NB; ++l) {
                             const long k = k0 + v * NB + l;
                             out[k] = sa * xs[k] + sb * U[k] + sbdt * (acc[v][l] * tab_.inv_norm[l]);
                         }
-                } else {
-                    double* r = cell(rhs_.data(), i, j);
+                else // an absorbing layer's cell: L(U) − σ (U − U_ref)
                     for (int v = 0; v < NV; ++v)
-                        for (int l = 0; l < NB; ++l)
-                            r[v * NB + l] = acc[v][l] * tab_.inv_norm[l];
-                }
+                        for (int l = 0; l < NB; ++l) {
+                            const long k = k0 + v * NB + l;
+                            double r = acc[v][l] * tab_.inv_norm[l];
+                            r -= layer_sigma_[layer] * (U[k] - layer_ref_[layer * NC + v * NB + l]);
+                            out[k] = sa * xs[k] + sb * U[k] + sbdt * r;
+                        }
             }
     }
 
