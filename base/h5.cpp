@@ -319,17 +319,88 @@ std::vector<double> read_dataset(hid_t loc, const std::string& name) {
     return v;
 }
 
+namespace {
+// Rows per chunk of a table's column: 32 KiB of doubles.
+constexpr hsize_t table_chunk = 4096;
+
+// A new column of n rows: chunked, of unlimited length, so that a longer table appends (write_table).
+void create_column(hid_t g, const char* name, hsize_t n, const double* data) {
+    const hsize_t dims[1] = {n}, max[1] = {H5S_UNLIMITED}, chunk[1] = {table_chunk};
+    Object space(H5Screate_simple(1, dims, max), H5Sclose, g, name, "make a dataspace for");
+    Object dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, g, name, "make the creation properties of");
+    check(H5Pset_chunk(dcpl.id(), 1, chunk), g, name, "set the chunks of");
+    Object set(H5Dcreate2(g, name, H5T_IEEE_F64LE, space.id(), H5P_DEFAULT, dcpl.id(), H5P_DEFAULT),
+               H5Dclose, g, name, "create the dataset");
+    if (n > 0)
+        check(H5Dwrite(set.id(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), g, name,
+              "write the dataset");
+    set.close("write the dataset");
+}
+
+// The rows of an existing column that the table keeps: all of them when it is chunked, no longer than the
+// table and its last row is the table's (bitwise); else none (the column is written anew).
+hsize_t kept_rows(hid_t set, hid_t g, const char* name, const std::vector<double>& rows, size_t width,
+                  size_t k) {
+    const size_t n = rows.size() / width;
+    Object dcpl(H5Dget_create_plist(set), H5Pclose, g, name, "read the creation properties of");
+    if (H5Pget_layout(dcpl.id()) != H5D_CHUNKED) return 0;
+    Object space(H5Dget_space(set), H5Sclose, g, name, "read the dataspace of");
+    hsize_t stored = 0;
+    if (H5Sget_simple_extent_ndims(space.id()) != 1 ||
+        H5Sget_simple_extent_dims(space.id(), &stored, nullptr) < 0 || stored > n)
+        return 0;
+    if (stored == 0) return 0;
+    const hsize_t last[1] = {stored - 1}, one[1] = {1};
+    check(H5Sselect_hyperslab(space.id(), H5S_SELECT_SET, last, nullptr, one, nullptr), g, name,
+          "select the last row of");
+    Object mem(H5Screate_simple(1, one, nullptr), H5Sclose, g, name, "make a dataspace for");
+    double v = 0;
+    check(H5Dread(set, H5T_NATIVE_DOUBLE, mem.id(), space.id(), H5P_DEFAULT, &v), g, name, "read");
+    const double w = rows[(stored - 1) * width + k];
+    return std::memcmp(&v, &w, sizeof v) == 0 ? stored : 0;
+}
+} // namespace
+
+// Each column grows by appending the rows it lacks: the rows of the last flush are never moved or their
+// space freed, so the file's last flushed state stays readable when the process is killed before the next
+// flush. (Deleting and writing a column anew would free that space for the next dataset written, while the
+// flushed state still points at it.) A column that does not begin the table is written anew.
 void write_table(hid_t file, const std::string& group, const std::vector<std::string>& columns,
                  const std::vector<double>& rows) {
     if (check(H5Lexists(file, group.c_str(), H5P_DEFAULT), file, group, "look up") <= 0)
         create_group(file, group).close();
     Object g = open_group(file, group);
     const size_t width = columns.size(), n = rows.size() / width;
-    std::vector<double> column(n);
+    std::vector<double> column;
     for (size_t k = 0; k < width; ++k) {
-        for (size_t r = 0; r < n; ++r)
-            column[r] = rows[r * width + k];
-        write_dataset(g.id(), columns[k].c_str(), {n}, column.data());
+        const char* name = columns[k].c_str();
+        hsize_t start = 0;
+        Object set;
+        if (check(H5Lexists(g.id(), name, H5P_DEFAULT), g.id(), name, "look up") > 0) {
+            set = Object(H5Dopen2(g.id(), name, H5P_DEFAULT), H5Dclose, g.id(), name, "open the dataset");
+            start = kept_rows(set.id(), g.id(), name, rows, width, k);
+            if (start == 0) {
+                set.close();
+                check(H5Ldelete(g.id(), name, H5P_DEFAULT), g.id(), name, "delete");
+            }
+        }
+        column.resize(n - start);
+        for (size_t r = start; r < n; ++r)
+            column[r - start] = rows[r * width + k];
+        if (set.id() < 0) {
+            create_column(g.id(), name, n, column.data());
+        } else if (start < n) {
+            const hsize_t dims[1] = {n}, first[1] = {start}, count[1] = {n - start};
+            check(H5Dset_extent(set.id(), dims), g.id(), name, "extend the dataset");
+            Object space(H5Dget_space(set.id()), H5Sclose, g.id(), name, "read the dataspace of");
+            check(H5Sselect_hyperslab(space.id(), H5S_SELECT_SET, first, nullptr, count, nullptr), g.id(), name,
+                  "select the new rows of");
+            Object mem(H5Screate_simple(1, count, nullptr), H5Sclose, g.id(), name, "make a dataspace for");
+            check(H5Dwrite(set.id(), H5T_NATIVE_DOUBLE, mem.id(), space.id(), H5P_DEFAULT, column.data()),
+                  g.id(), name, "write the dataset");
+        }
+        if (set.id() >= 0) set.close("write the dataset");
+        after_write();
     }
     g.close();
 }

@@ -92,7 +92,10 @@ double read_attr_double(hid_t obj, const char* name);
 std::string read_text(hid_t loc, const char* name);
 std::vector<double> read_dataset(hid_t loc, const std::string& name);
 Object open_read(const std::string& path);
-// A table of interleaved rows as one dataset per column in group (created when missing).
+// A table of interleaved rows as one dataset per column in group (created when missing). A column already
+// in the file whose rows begin the table (its last row bitwise the table's) gets only the rows it lacks
+// appended: the rows of the last flush stay in place, and a run killed before the next flush leaves them
+// readable. Any other column is written anew.
 void write_table(hid_t file, const std::string& group, const std::vector<std::string>& columns,
                  const std::vector<double>& rows);
 
