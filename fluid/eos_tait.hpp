@@ -3,23 +3,73 @@
 // feed back. With cavitation on, densities below the saturated-mixture density follow the mixture branch
 // of cavitation.hpp; between that density and the liquid density at p_cav (a relative width of about α0)
 // the pressure stays at p_cav and the mixture sound speed at p_cav is used, so p(ρ) is continuous.
+// p(ρ) is evaluated without pow once finalize() has built its table (TaitTable): to within a few units in the
+// last place of p + B − A, and exactly A at ρ0.
 #pragma once
 #include "fluid/cavitation.hpp"
 #include "fluid/eos.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <vector>
 
 namespace undex::fluid {
+
+// (ρ/ρ0)^γ − 1 for ρ in [ρ0/2, 2ρ0) from nodes ρ_k = ρ0 (1/2 + k/512): with d = (ρ − ρ_k)/ρ_k (the
+// difference is exact, |d| ≤ 2e-3), (ρ/ρ0)^γ − 1 = T1_k + T0_k q(d), where T0_k = (ρ_k/ρ0)^γ and
+// T1_k = T0_k − 1 are rounded from long double and q(d) = (1 + d)^γ − 1 is its binomial series to d⁵ (the
+// next term is below 1e-17 relative). Summing T1_k and T0_k q instead of forming (ρ/ρ0)^γ and then
+// subtracting 1 keeps the relative accuracy of p − A near ρ0; at ρ0 itself d = 0 and T1 = 0, so p = A.
+class TaitTable {
+  public:
+    TaitTable(double gamma, double rho0) : lo_(0.5 * rho0), scale_(512.0 / rho0) {
+        for (int k = 0; k <= 768; ++k) {
+            const double rho = rho0 * (0.5 + k / 512.0);
+            const long double r = static_cast<long double>(rho) / rho0;
+            const long double t1 = std::expm1(static_cast<long double>(gamma) * std::log(r));
+            nodes_.push_back({rho, 1.0 / rho, static_cast<double>(t1 + 1.0L), static_cast<double>(t1)});
+        }
+        hi_ = nodes_.back().rho;
+        long double c = 1.0L;
+        for (int j = 1; j <= 5; ++j) {
+            c *= (static_cast<long double>(gamma) - (j - 1)) / j;
+            c_[j - 1] = static_cast<double>(c);
+        }
+    }
+    bool covers(double rho) const { return rho >= lo_ && rho < hi_; } // false for NaN
+    // (ρ/ρ0)^γ − 1 for a ρ it covers.
+    double power_minus_one(double rho) const {
+        const Node& n = nodes_[static_cast<size_t>((rho - lo_) * scale_ + 0.5)];
+        const double d = (rho - n.rho) * n.inv;
+        const double q = d * (c_[0] + d * (c_[1] + d * (c_[2] + d * (c_[3] + d * c_[4]))));
+        return n.t1 + n.t0 * q;
+    }
+
+  private:
+    struct Node {
+        double rho, inv, t0, t1;
+    };
+    std::vector<Node> nodes_;
+    double lo_, hi_ = 0, scale_;
+    double c_[5];
+};
 
 struct Tait {
     static constexpr bool barotropic = true;
     double gamma = 7.15, B = 3.31e8, A = 1e5, rho0 = 1000.0;
     bool cavitation = false;
     CavitationModel cav;
+    std::shared_ptr<const TaitTable> table; // finalize(); without it p(ρ) uses pow
+
+    // Builds the table of p(ρ) for the parameters as set (call again after changing γ or ρ0).
+    void finalize() { table = std::make_shared<const TaitTable>(gamma, rho0); }
 
     // The Tait relation p(ρ) of the liquid, and its inverse ρ(p).
-    double liquid_pressure(double rho) const { return B * (std::pow(rho / rho0, gamma) - 1.0) + A; }
+    double liquid_pressure(double rho) const {
+        if (table && table->covers(rho)) return B * table->power_minus_one(rho) + A;
+        return B * (std::pow(rho / rho0, gamma) - 1.0) + A;
+    }
     double density(double p) const { return rho0 * std::pow((p - A) / B + 1.0, 1.0 / gamma); }
 
     double pressure(double rho, double /*rho_e*/) const {

@@ -137,6 +137,7 @@ const EosRow eos_table[] = {
          eos.B = t.b();
          eos.A = t.a();
          eos.rho0 = t.rho0();
+         eos.finalize();
          eos.cavitation = cv != nullptr;
          if (eos.cavitation) {
              eos.cav.p_cav = cv->p_cav();

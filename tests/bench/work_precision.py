@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Work–precision charts of the gas–water solver: error against wall time, log–log.
 
-    /usr/bin/python3 tests/bench/work_precision.py [--build build] [--out out/bench] [--only 4.1|4.4]
+    /usr/bin/python3 tests/bench/work_precision.py [--build build] [--out out/bench] [--only 4.1|4.4|app]
 
 Case 4.1 (cases/undex_1d.case), one thread: degrees 0, 1, 2 on 100 … 3200 cells (CFL 0.8, 0.4, 0.2), for the
 real and the modified ghost fluid method, the minmod limiter (degrees 1, 2) and the WENO limiter (degree 2),
@@ -11,8 +11,16 @@ Case 4.4 (cases/free_field_2d.case), two threads: degrees 1 and 2 on 50², 100²
 the WENO limiter (the paper's setting) and the modified GFM with the minmod limiter (the case file's); error:
 relative L1 of p along the positive x axis against the 1D cylindrical bubble (cases/bubble_1d_cylindrical.case, 5000 cells,
 run once and kept in OUT); wall time as reported by undex-fluid (time stepping and output).
-Writes OUT/work_precision_41.csv/.png and OUT/work_precision_44.csv/.png and prints, per water model, the
-cheapest setting that reaches each of a few error levels.
+The application (cases/undex_sandwich_plate.case as shipped but for the fluid's cells and degree), two fluid
+threads and one structure thread: degrees 1 and 2 at fluid cells of 0.04, 0.02 and 0.01 m; the P1 peak
+pressure (the structure's p_I at the wet node nearest r = 0) and the final P2 displacement, each against
+the finest degree-2 run (the most accurate run there is; its own error is not known, and the change from the
+next coarser degree-2 run is printed as a hint of it); wall time of the whole coupled run (`undex run`).
+A run whose output is complete and whose wall time was recorded (OUT/app_k*_*/wall_seconds) is not run
+again: the expensive ones can be run one per session.
+Writes OUT/work_precision_41.csv/.png, OUT/work_precision_44.csv/.png and OUT/work_precision_app.csv/.png
+and prints, per water model and for the application, the cheapest setting that reaches each of a few error
+levels.
 """
 import argparse
 import csv
@@ -20,6 +28,7 @@ import os
 import re
 import subprocess
 import sys
+import time
 
 import matplotlib
 
@@ -155,6 +164,93 @@ def case_44(args):
     fig.savefig(os.path.join(args.out, "work_precision_44.png"), dpi=110)
 
 
+APP_CELLS = [(125, 300), (250, 600), (500, 1200)]  # fluid cells 0.04, 0.02, 0.01 m
+
+
+def run_application(args, k, nx, ny):
+    """Output directory and wall time of the sandwich plate at degree k on nx x ny fluid cells."""
+    d = os.path.join(args.out, f"app_k{k}_{nx}")
+    stamp = os.path.join(d, "wall_seconds")
+    if os.path.isfile(stamp) and status(os.path.join(d, "fluid.h5")) == "complete":
+        return d, float(open(stamp).read())
+    sets = {"domain.cells_x": nx, "domain.cells_y": ny, "numerics.degree": k, "numerics.threads": 2,
+            "structure.threads": 1, "output.progress_seconds": 60}
+    t0 = time.monotonic()
+    with open(os.path.join(args.out, f"app_k{k}_{nx}.log"), "w") as log:
+        proc = subprocess.run([os.path.join(args.build, "bin", "undex"), "run",
+                               os.path.join(ROOT, "cases", "undex_sandwich_plate.case"), "-o", d, "--force"]
+                              + sets_args(sets), stdout=log, stderr=subprocess.STDOUT)
+    wall = time.monotonic() - t0
+    if proc.returncode != 0:
+        raise RuntimeError(f"application, degree {k}, {nx} x {ny}: exit {proc.returncode} (see {log.name})")
+    with open(stamp, "w") as f:
+        f.write(f"{wall:.1f}\n")
+    return d, wall
+
+
+def status(path):
+    import h5py
+    try:
+        with h5py.File(path, "r") as f:
+            return f["status"][()].decode().rstrip("\0")
+    except (OSError, KeyError):
+        return ""
+
+
+def case_app(args):
+    sys.path.insert(0, os.path.join(ROOT, "cases"))
+    from undex_findings import gauge, p_I_at_centre  # noqa: E402
+    runs = []
+    for k in (1, 2):
+        for nx, ny in APP_CELLS:
+            d, wall = run_application(args, k, nx, ny)
+            _, p1 = p_I_at_centre(d, 0)
+            p2 = gauge(d, "P2")
+            runs.append(dict(degree=k, cells_x=nx, cells_y=ny, dx=5.0 / nx, wall=wall, p1_peak_MPa=p1.max() / 1e6,
+                             p2_final_mm=p2["u_y"][-1] * 1e3))
+            r = runs[-1]
+            print(f"application k={k} {nx}x{ny} ({r['dx']:g} m): wall {wall:.0f} s, P1 peak {r['p1_peak_MPa']:.4g} "
+                  f"MPa, P2 final {r['p2_final_mm']:.4g} mm", flush=True)
+    ref = max((r for r in runs if r["degree"] == 2), key=lambda r: r["cells_x"])
+    for r in runs:
+        r["p1_error"] = abs(r["p1_peak_MPa"] / ref["p1_peak_MPa"] - 1)
+        r["p2_error"] = abs(r["p2_final_mm"] / ref["p2_final_mm"] - 1)
+    write_csv(os.path.join(args.out, "work_precision_app.csv"), runs)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.6), sharey=True)
+    for ax, key, title in ((axes[0], "p1_error", "P1 peak pressure"), (axes[1], "p2_error", "P2 final displacement")):
+        for k, c in ((1, "tab:blue"), (2, "tab:red")):
+            sel = [r for r in runs if r["degree"] == k and r is not ref]
+            ax.loglog([r["wall"] for r in sel], [max(r[key], 1e-5) for r in sel], "-o", color=c,
+                      label=f"degree {k}")
+            for r in sel:
+                ax.annotate(f"{r['dx']:g} m", (r["wall"], max(r[key], 1e-5)), fontsize=7)
+        ax.axhline(0.02, color="k", linewidth=0.6, linestyle=":", label="2 %")
+        ax.axvline(ref["wall"], color="tab:red", linewidth=0.6, linestyle="--",
+                   label=f"reference: degree 2, {ref['dx']:g} m")
+        ax.set_title(f"sandwich plate: {title}")
+        ax.set_xlabel("wall time of the coupled run, 2 fluid threads + 1 structure thread (s)")
+        ax.grid(True, which="both", linewidth=0.3, alpha=0.6)
+    axes[0].set_ylabel("relative difference from the reference run")
+    axes[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(args.out, "work_precision_app.png"), dpi=110)
+    print(f"reference: degree 2 at {ref['dx']:g} m: P1 peak {ref['p1_peak_MPa']:.4g} MPa, P2 final "
+          f"{ref['p2_final_mm']:.4g} mm, wall {ref['wall']:.0f} s")
+    next_ = [r for r in runs if r["degree"] == 2 and r is not ref]
+    if next_:
+        r = max(next_, key=lambda r: r["cells_x"])
+        print(f"  the next coarser degree-2 run ({r['dx']:g} m) differs from it by {r['p1_error']:.2%} (P1) and "
+              f"{r['p2_error']:.2%} (P2)")
+    for level in (0.05, 0.02, 0.01):
+        ok = [r for r in runs if r is not ref and r["p1_error"] <= level and r["p2_error"] <= level]
+        if ok:
+            r = min(ok, key=lambda r: r["wall"])
+            print(f"  both within {level:.0%}: cheapest degree {r['degree']} at {r['dx']:g} m, {r['wall']:.0f} s "
+                  f"(P1 {r['p1_error']:.2%}, P2 {r['p2_error']:.2%})")
+        else:
+            print(f"  both within {level:.0%}: no coarser run")
+
+
 def write_csv(path, rows):
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
@@ -167,13 +263,15 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--build", default="build")
     parser.add_argument("--out", default="out/bench")
-    parser.add_argument("--only", choices=["4.1", "4.4"], default=None)
+    parser.add_argument("--only", choices=["4.1", "4.4", "app"], default=None)
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     if args.only in (None, "4.1"):
         case_41(args)
     if args.only in (None, "4.4"):
         case_44(args)
+    if args.only in (None, "app"):
+        case_app(args)
     return 0
 
 
