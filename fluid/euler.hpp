@@ -4,7 +4,7 @@
 //
 // States are read and written through x[v], so that the same code serves a contiguous array (double*),
 // a cell's modal coefficients (Strided: variable v at p[v * stride]) and the point-major arrays of the
-// scheme's vectorised loops (AtPoint: variable v at a[v][k]).
+// scheme's vectorised loops (AtPoint: variable v at a[v][k]; AtLane: a[v][k][w], lane w).
 #pragma once
 #include "fluid/eos.hpp"
 #include "fluid/solver.hpp"
@@ -25,6 +25,14 @@ template <class A> struct AtPoint {
     auto& operator[](int v) const { return a[v][k]; }
 };
 template <class A> AtPoint(A&, int) -> AtPoint<A>;
+
+// Variable v at a[v][k][w] of a point-major array a[NV][N][W] of W cells, one per SIMD lane.
+template <class A> struct AtLane {
+    A& a;
+    int k, w;
+    auto& operator[](int v) const { return a[v][k][w]; }
+};
+template <class A> AtLane(A&, int, int) -> AtLane<A>;
 
 // Physical flux in direction Dir (0: x, 1: y) of the conserved state U with normal velocity un and
 // pressure p; NV = 3 (1D) or 4 (2D).

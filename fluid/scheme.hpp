@@ -658,15 +658,6 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         compute_rhs(U, t, st);
     }
 
-    template <int Dir> static void eval_face(const double* c, const double (*phi)[NB], int g, double* q) {
-        for (int v = 0; v < NV; ++v) {
-            double t[NB];
-            for (int l = 0; l < NB; ++l)
-                t[l] = c[v * NB + l] * phi[g][l];
-            q[v] = B::mode_sum(t);
-        }
-    }
-
     // Long on purpose (about 115 lines): the hot loop of the solver, kept in one piece so that its stages
     // (face fluxes, volume integrals, source, face integrals) share the per-cell locals and inline freely.
     // The stage st written straight from L(U).
@@ -679,22 +670,27 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
         if (stage_ghosts_) stage_ghosts_(U);
         const int nx = mesh_.nx, ny = mesh_.ny;
-        // Fluxes through x faces: face i lies between cells i − 1 and i.
+        // Fluxes through x faces: face i lies between cells i − 1 and i; in blocks of LANES faces of a row
+        // whose fluxes are needed (faces_flux).
 // Rows differ in cost (the gas, cavitating water and shocked water lie in some rows only): dynamic.
 #pragma omp parallel for schedule(dynamic, 8) if (D == 2)
-        for (int j = 0; j < ny; ++j)
-            for (int i = lo_[j]; i <= hi_[j] && hi_[j] > lo_[j]; ++i) {
-                if (!active(i - 1, j) && !active(i, j)) continue;
-                const double* cl = cell(U, i - 1, j);
-                const double* cr = cell(U, i, j);
-                double* f = fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV;
-                for (int g = 0; g < NQF; ++g) {
-                    double ql[NV], qr[NV];
-                    eval_face<0>(cl, tab_.face[0][1], g, ql);
-                    eval_face<0>(cr, tab_.face[0][0], g, qr);
-                    hllc_flux<NV, 0>(eos_, ql, pressure(ql), qr, pressure(qr), f + g * NV);
+        for (int j = 0; j < ny; ++j) {
+            if (hi_[j] <= lo_[j]) continue;
+            auto needed = [&](int i) { return active(i - 1, j) || active(i, j); };
+            for (int i = lo_[j]; i <= hi_[j];) {
+                if (!needed(i)) {
+                    ++i;
+                    continue;
                 }
+                int n = 1;
+                while (n < LANES && i + n <= hi_[j] && needed(i + n))
+                    ++n;
+                if (n == LANES)
+                    faces_flux<0, LANES>(U, i, j), i += LANES;
+                else
+                    faces_flux<0, 1>(U, i, j), ++i;
             }
+        }
         if constexpr (D == 2) {
             // Fluxes through y faces: face j lies between cells j − 1 and j.
 #pragma omp parallel for schedule(dynamic, 8) if (D == 2)
@@ -704,22 +700,23 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 for (int r : {j - 1, j})
                     if (r >= 0 && r < ny && hi_[r] > lo_[r])
                         i0 = std::min(i0, lo_[r]), i1 = std::max(i1, hi_[r]);
-                for (int i = i0; i < i1; ++i) {
-                    if (!active(i, j - 1) && !active(i, j)) continue;
-                    const double* cb = cell(U, i, j - 1);
-                    const double* ct = cell(U, i, j);
-                    double* f = fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
-                    for (int g = 0; g < NQF; ++g) {
-                        double qb[NV], qt[NV];
-                        eval_face<1>(cb, tab_.face[1][1], g, qb);
-                        eval_face<1>(ct, tab_.face[1][0], g, qt);
-                        hllc_flux<NV, 1>(eos_, qb, pressure(qb), qt, pressure(qt), f + g * NV);
+                auto needed = [&](int i) { return active(i, j - 1) || active(i, j); };
+                for (int i = i0; i < i1;) {
+                    if (!needed(i)) {
+                        ++i;
+                        continue;
                     }
+                    int n = 1;
+                    while (n < LANES && i + n < i1 && needed(i + n))
+                        ++n;
+                    if (n == LANES)
+                        faces_flux<1, LANES>(U, i, j), i += LANES;
+                    else
+                        faces_flux<1, 1>(U, i, j), ++i;
                 }
             }
         }
-        const double idx = 1.0 / mesh_.dx, idy = 1.0 / mesh_.dy;
-        const double alpha = mesh_.alpha;
+        // Volume integrals and the stage, over blocks of LANES active cells of a row (cells_rhs).
 #pragma omp parallel for schedule(dynamic, 8) if (D == 2)
         for (int j = 0; j < ny; ++j)
             for (int i = lo_[j]; i < hi_[j]; ++i) {
@@ -735,95 +732,196 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                     }
                     continue;
                 }
-                const double* c = cell(U, i, j);
-                double acc[NV][NB] = {};
-                // Point-major layout so that the loops over quadrature points vectorise.
-                double s[NV][NQV], F[NV][NQV], G[NV][NQV], P[NQV];
-                at_points(c, vol_.phi, s);
-                for (int q = 0; q < NQV; ++q) {
-                    const Primitive w = euler::to_primitive<D>(eos_, euler::AtPoint{s, q});
-                    P[q] = w.p;
-                    euler::flux<NV, 0>(euler::AtPoint{s, q}, w.u, w.p, euler::AtPoint{F, q});
-                    if constexpr (D == 2)
-                        euler::flux<NV, 1>(euler::AtPoint{s, q}, w.v, w.p, euler::AtPoint{G, q});
+                int n = 1; // a block of LANES active cells, or this cell alone
+                while (n < LANES && i + n < hi_[j] && active(i + n, j))
+                    ++n;
+                if (n == LANES) {
+                    cells_rhs<LANES>(U, out, xs, sa, sb, sbdt, i, j);
+                    i += LANES - 1;
+                } else {
+                    cells_rhs<1>(U, out, xs, sa, sb, sbdt, i, j);
                 }
-                // ∫ F ∂φ/∂x + G ∂φ/∂y: ∂φ/∂x vanishes for the modes constant in ξ and ∂φ/∂y for those constant
-                // in η (tabulated as exact zeros), so only the other term is summed (the same value).
-                if constexpr (K > 0)
-                    for (int l = 1; l < NB; ++l) {
-                        const bool in_x = B::px(l) > 0, in_y = D == 2 && B::py(l) > 0;
-                        for (int v = 0; v < NV; ++v) {
-                            double t[NQV];
-                            if (in_x && in_y)
-                                for (int q = 0; q < NQV; ++q)
-                                    t[q] = F[v][q] * vol_.wdx[l][q] + G[v][q] * vol_.wdy[l][q];
-                            else if (in_x)
-                                for (int q = 0; q < NQV; ++q)
-                                    t[q] = F[v][q] * vol_.wdx[l][q];
-                            else
-                                for (int q = 0; q < NQV; ++q)
-                                    t[q] = G[v][q] * vol_.wdy[l][q];
-                            acc[v][l] = B::point_sum(t);
-                        }
-                    }
-                if (alpha != 0.0) {
-                    // S = −(α/x)(ρu, ρu², ρuv, (E+p)u): the x flux without its pressure term.
-                    double S[NV][NQV];
-                    for (int q = 0; q < NQV; ++q) {
-                        const double x = mesh_.xc(i) + 0.5 * mesh_.dx * tab_.xiv[q];
-                        const double f = -alpha / x * tab_.wv[q];
-                        for (int v = 0; v < NV; ++v)
-                            S[v][q] = f * F[v][q];
-                        S[1][q] = f * (F[1][q] - P[q]);
-                    }
-                    for (int v = 0; v < NV; ++v)
-                        for (int l = 0; l < NB; ++l) {
+            }
+    }
+
+    // Cells (faces) per block of the volume (face) loops: one per SIMD lane.
+    static constexpr int LANES = 8;
+
+    // The HLLC fluxes at the NQF points of W consecutive faces of direction Dir, one per SIMD lane: the x
+    // faces i … i + W − 1 of row j (between cells i + w − 1 and i + w) or the y faces of row j (between
+    // cells (i + w, j − 1) and (i + w, j)). Each lane computes what W = 1 computes, to the last bit.
+    template <int Dir, int W> void faces_flux(const double* U, int i, int j) {
+        const int nx = mesh_.nx;
+        const double* lo0 = Dir == 0 ? cell(U, i - 1, j) : cell(U, i, j - 1); // lane w's cells at w·NC
+        const double* hi0 = cell(U, i, j);
+        double cl[NC][W], cr[NC][W];
+        for (int k = 0; k < NC; ++k)
+            for (int w = 0; w < W; ++w) {
+                cl[k][w] = lo0[w * NC + k];
+                cr[k][w] = hi0[w * NC + k];
+            }
+        double* f0 = Dir == 0 ? fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV
+                              : fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
+        for (int g = 0; g < NQF; ++g) {
+            double ql[NV][W], qr[NV][W], pl[W], pr[W], F[NV][W];
+            for (int v = 0; v < NV; ++v)
+                for (int w = 0; w < W; ++w) {
+                    double t[NB];
+                    for (int l = 0; l < NB; ++l)
+                        t[l] = cl[v * NB + l][w] * tab_.face[Dir][1][g][l];
+                    ql[v][w] = B::mode_sum(t);
+                    for (int l = 0; l < NB; ++l)
+                        t[l] = cr[v * NB + l][w] * tab_.face[Dir][0][g][l];
+                    qr[v][w] = B::mode_sum(t);
+                }
+            for (int w = 0; w < W; ++w) {
+                const euler::Strided<const double> L{&ql[0][w], W}, R{&qr[0][w], W};
+                pl[w] = euler::pressure<D>(eos_, L);
+                pr[w] = euler::pressure<D>(eos_, R);
+                hllc_flux<NV, Dir, (W > 1)>(eos_, L, pl[w], R, pr[w], euler::Strided<double>{&F[0][w], W});
+            }
+            for (int w = 0; w < W; ++w)
+                for (int v = 0; v < NV; ++v)
+                    f0[(w * NQF + g) * NV + v] = F[v][w];
+        }
+    }
+
+    // The stage out = sa·xs + sb·U + sbdt·L(U) of W consecutive active cells of row j from cell i, one per
+    // SIMD lane (the arrays' last index). Each lane performs the operations of the one-cell case W = 1 in
+    // the same order, so that the result does not depend on W, to the last bit.
+    template <int W>
+    void cells_rhs(const double* U, double* out, const double* xs, double sa, double sb, double sbdt, int i,
+                   int j) const {
+        const int nx = mesh_.nx;
+        const double* c0 = cell(U, i, j); // the W cells follow at strides of NC
+        double c[NC][W];
+        for (int k = 0; k < NC; ++k)
+            for (int w = 0; w < W; ++w)
+                c[k][w] = c0[w * NC + k];
+        double acc[NV][NB][W] = {};
+        // Point-major layout (variable, point, lane).
+        double s[NV][NQV][W], F[NV][NQV][W], G[NV][NQV][W], P[NQV][W];
+        for (int v = 0; v < NV; ++v)
+            for (int q = 0; q < NQV; ++q)
+                for (int w = 0; w < W; ++w) {
+                    double t[NB];
+                    for (int l = 0; l < NB; ++l)
+                        t[l] = c[v * NB + l][w] * vol_.phi[l][q];
+                    s[v][q][w] = B::mode_sum(t);
+                }
+        for (int q = 0; q < NQV; ++q)
+            for (int w = 0; w < W; ++w) {
+                const Primitive p = euler::to_primitive<D>(eos_, euler::AtLane{s, q, w});
+                P[q][w] = p.p;
+                euler::flux<NV, 0>(euler::AtLane{s, q, w}, p.u, p.p, euler::AtLane{F, q, w});
+                if constexpr (D == 2) euler::flux<NV, 1>(euler::AtLane{s, q, w}, p.v, p.p, euler::AtLane{G, q, w});
+            }
+        // ∫ F ∂φ/∂x + G ∂φ/∂y: ∂φ/∂x vanishes for the modes constant in ξ and ∂φ/∂y for those constant
+        // in η (tabulated as exact zeros), so only the other term is summed (the same value).
+        if constexpr (K > 0)
+            for (int l = 1; l < NB; ++l) {
+                const bool in_x = B::px(l) > 0, in_y = D == 2 && B::py(l) > 0;
+                for (int v = 0; v < NV; ++v) {
+                    // The branch outside the loop over the lanes, so that it vectorises.
+                    if (in_x && in_y)
+                        for (int w = 0; w < W; ++w) {
                             double t[NQV];
                             for (int q = 0; q < NQV; ++q)
-                                t[q] = S[v][q] * tab_.phiv[q][l];
-                            acc[v][l] += B::point_sum(t); // mirror-symmetric in z (Basis::point_sum)
+                                t[q] = F[v][q][w] * vol_.wdx[l][q] + G[v][q][w] * vol_.wdy[l][q];
+                            acc[v][l][w] = B::point_sum(t);
+                        }
+                    else if (in_x)
+                        for (int w = 0; w < W; ++w) {
+                            double t[NQV];
+                            for (int q = 0; q < NQV; ++q)
+                                t[q] = F[v][q][w] * vol_.wdx[l][q];
+                            acc[v][l][w] = B::point_sum(t);
+                        }
+                    else
+                        for (int w = 0; w < W; ++w) {
+                            double t[NQV];
+                            for (int q = 0; q < NQV; ++q)
+                                t[q] = G[v][q][w] * vol_.wdy[l][q];
+                            acc[v][l][w] = B::point_sum(t);
                         }
                 }
-                // Face integrals: the x and y faces summed apart and then added, so that a mirror image about
-                // x = y rounds alike.
-                const double* fl = fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV;
-                const double* fr = fl + NQF * NV;
+            }
+        if (mesh_.alpha != 0.0) {
+            // S = −(α/x)(ρu, ρu², ρuv, (E+p)u): the x flux without its pressure term.
+            double S[NV][NQV][W];
+            for (int q = 0; q < NQV; ++q)
+                for (int w = 0; w < W; ++w) {
+                    const double x = mesh_.xc(i + w) + 0.5 * mesh_.dx * tab_.xiv[q];
+                    const double f = -mesh_.alpha / x * tab_.wv[q];
+                    for (int v = 0; v < NV; ++v)
+                        S[v][q][w] = f * F[v][q][w];
+                    S[1][q][w] = f * (F[1][q][w] - P[q][w]);
+                }
+            for (int v = 0; v < NV; ++v)
+                for (int l = 0; l < NB; ++l)
+                    for (int w = 0; w < W; ++w) {
+                        double t[NQV];
+                        for (int q = 0; q < NQV; ++q)
+                            t[q] = S[v][q][w] * tab_.phiv[q][l];
+                        acc[v][l][w] += B::point_sum(t); // mirror-symmetric in z (Basis::point_sum)
+                    }
+        }
+        // Face integrals: the x and y faces summed apart and then added, so that a mirror image about
+        // x = y rounds alike. The face fluxes are first copied lane-minor: fx of the W + 1 x faces (lane w's
+        // left face is w, its right face w + 1), fy of the W faces below and above.
+        const double idx = 1.0 / mesh_.dx, idy = 1.0 / mesh_.dy;
+        constexpr int NF = NQF * NV; // values per face
+        double fx[NF][W + 1], fb[NF][W], ft[NF][W];
+        const double* fx0 = fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV;
+        for (int k = 0; k < NF; ++k)
+            for (int w = 0; w <= W; ++w)
+                fx[k][w] = fx0[w * NF + k];
+        if constexpr (D == 2) {
+            const double* fb0 = fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
+            const double* ft0 = fb0 + static_cast<long>(nx) * NF;
+            for (int k = 0; k < NF; ++k)
+                for (int w = 0; w < W; ++w) {
+                    fb[k][w] = fb0[w * NF + k];
+                    ft[k][w] = ft0[w * NF + k];
+                }
+        }
+        for (int v = 0; v < NV; ++v)
+            for (int l = 0; l < NB; ++l)
+                for (int w = 0; w < W; ++w) {
+                    double t[NQF];
+                    for (int g = 0; g < NQF; ++g)
+                        t[g] = idx * tab_.wf[g] *
+                               (fx[g * NV + v][w] * tab_.face[0][0][g][l] -
+                                fx[g * NV + v][w + 1] * tab_.face[0][1][g][l]);
+                    double faces = B::face_sum(t);
+                    if constexpr (D == 2) {
+                        for (int g = 0; g < NQF; ++g)
+                            t[g] = idy * tab_.wf[g] *
+                                   (fb[g * NV + v][w] * tab_.face[1][0][g][l] -
+                                    ft[g * NV + v][w] * tab_.face[1][1][g][l]);
+                        faces += B::face_sum(t);
+                    }
+                    acc[v][l][w] += faces;
+                }
+        const bool layered = !layer_cell_.empty();
+        for (int w = 0; w < W; ++w) {
+            const long k0 = static_cast<long>(mesh_.index(i + w, j)) * NC;
+            const int layer = layered ? layer_of_[mesh_.index(i + w, j)] : -1;
+            if (layer < 0)
                 for (int v = 0; v < NV; ++v)
                     for (int l = 0; l < NB; ++l) {
-                        double t[NQF];
-                        for (int g = 0; g < NQF; ++g)
-                            t[g] = idx * tab_.wf[g] *
-                                   (fl[g * NV + v] * tab_.face[0][0][g][l] -
-                                    fr[g * NV + v] * tab_.face[0][1][g][l]);
-                        double faces = B::face_sum(t);
-                        if constexpr (D == 2) {
-                            const double* fb = fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
-                            const double* ft = fb + static_cast<long>(nx) * NQF * NV;
-                            for (int g = 0; g < NQF; ++g)
-                                t[g] = idy * tab_.wf[g] *
-                                       (fb[g * NV + v] * tab_.face[1][0][g][l] -
-                                        ft[g * NV + v] * tab_.face[1][1][g][l]);
-                            faces += B::face_sum(t);
-                        }
-                        acc[v][l] += faces;
+                        const long k = k0 + v * NB + l;
+                        out[k] = sa * xs[k] + sb * c[v * NB + l][w] + sbdt * (acc[v][l][w] * tab_.inv_norm[l]);
                     }
-                const long k0 = static_cast<long>(mesh_.index(i, j)) * NC;
-                const int layer = layered ? layer_of_[mesh_.index(i, j)] : -1;
-                if (layer < 0)
-                    for (int v = 0; v < NV; ++v)
-                        for (int l = 0; l < NB; ++l) {
-                            const long k = k0 + v * NB + l;
-                            out[k] = sa * xs[k] + sb * U[k] + sbdt * (acc[v][l] * tab_.inv_norm[l]);
-                        }
-                else // an absorbing layer's cell: L(U) − σ (U − U_ref)
-                    for (int v = 0; v < NV; ++v)
-                        for (int l = 0; l < NB; ++l) {
-                            const long k = k0 + v * NB + l;
-                            double r = acc[v][l] * tab_.inv_norm[l];
-                            r -= layer_sigma_[layer] * (U[k] - layer_ref_[layer * NC + v * NB + l]);
-                            out[k] = sa * xs[k] + sb * U[k] + sbdt * r;
-                        }
-            }
+            else // an absorbing layer's cell: L(U) − σ (U − U_ref)
+                for (int v = 0; v < NV; ++v)
+                    for (int l = 0; l < NB; ++l) {
+                        const long k = k0 + v * NB + l;
+                        double r = acc[v][l][w] * tab_.inv_norm[l];
+                        r -= layer_sigma_[layer] * (c[v * NB + l][w] - layer_ref_[layer * NC + v * NB + l]);
+                        out[k] = sa * xs[k] + sb * c[v * NB + l][w] + sbdt * r;
+                    }
+        }
     }
 
     // Indicator + limiter + positivity on Uvec; throws SolverFailure for a cell that cannot be made
