@@ -658,9 +658,9 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         compute_rhs(U, t, st);
     }
 
-    // Long on purpose (about 115 lines): the hot loop of the solver, kept in one piece so that its stages
-    // (face fluxes, volume integrals, source, face integrals) share the per-cell locals and inline freely.
-    // The stage st written straight from L(U).
+    // The hot loop of the solver: face fluxes (faces_flux), then volume and face integrals with the
+    // source (cells_rhs), over blocks of LANES faces or cells of a row; the stage st is written straight
+    // from L(U).
     void compute_rhs(std::vector<double>& Uvec, double t, const Stage& st) {
         double* U = Uvec.data();
         double* out = st.out.data();
