@@ -744,8 +744,11 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             }
     }
 
-    // Cells (faces) per block of the volume (face) loops: one per SIMD lane.
-    static constexpr int LANES = 8;
+    // Cells (faces) per block of the volume (face) loops: one per SIMD lane. Barotropic water one at a time:
+    // Tait's p(ρ) (the table's range test, pow outside it, the cavitation branch) keeps the lane loops from
+    // vectorising, and the faces' branchless HLLC then costs more than it saves (the application 1.17×
+    // slower per step with 8 lanes: tests/bench/two_fluid_step.sh).
+    static constexpr int LANES = Eos::barotropic ? 1 : 8;
 
     // The HLLC fluxes at the NQF points of W consecutive faces of direction Dir, one per SIMD lane: the x
     // faces i … i + W − 1 of row j (between cells i + w − 1 and i + w) or the y faces of row j (between
