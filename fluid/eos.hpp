@@ -42,4 +42,19 @@ concept EquationOfState = std::copyable<E> && requires(const E& eos, double rho,
     { eos.void_fraction(p) } -> std::same_as<double>;
 };
 
+// The form of an equation of state E that the SIMD lane loops of the scheme use (Scheme::faces_flux and
+// Scheme::cells_rhs over W > 1 cells): E::Lanes, constructed from E, whose p(ρ, ρe) and a(ρ, p) have no
+// branches and are E's to the last bit for every density its holds(ρ) accepts (a block with any other
+// density goes one cell at a time, with E); or E itself, when E's own have no branches to remove.
+template <class E> struct LaneForm {
+    using type = E;
+    static constexpr bool always = true; // every state
+};
+template <class E>
+    requires requires { typename E::Lanes; }
+struct LaneForm<E> {
+    using type = typename E::Lanes;
+    static constexpr bool always = false;
+};
+
 } // namespace undex::fluid

@@ -38,6 +38,8 @@ class TaitTable {
         }
     }
     bool covers(double rho) const { return rho >= lo_ && rho < hi_; } // false for NaN
+    double lowest() const { return lo_; }  // the range it covers, [lowest, highest)
+    double highest() const { return hi_; }
     // (ρ/ρ0)^γ − 1 for a ρ it covers.
     double power_minus_one(double rho) const {
         const Node& n = nodes_[static_cast<size_t>((rho - lo_) * scale_ + 0.5)];
@@ -55,8 +57,11 @@ class TaitTable {
     double c_[5];
 };
 
+struct TaitLiquid;
+
 struct Tait {
     static constexpr bool barotropic = true;
+    using Lanes = TaitLiquid; // LaneForm (eos.hpp)
     double gamma = 7.15, B = 3.31e8, A = 1e5, rho0 = 1000.0;
     bool cavitation = false;
     CavitationModel cav;
@@ -83,8 +88,9 @@ struct Tait {
             // with the liquid's density (a boundary's, on the liquid's isentrope) from p alone.
             return rho < cav.rho_sat ? cav.mixture_sound_speed(rho, p) : cav.mixture_sound_speed(p);
         }
-        return std::sqrt(gamma * (p + B - A) / rho);
+        return liquid_sound_speed(rho, p);
     }
+    double liquid_sound_speed(double rho, double p) const { return std::sqrt(gamma * (p + B - A) / rho); }
     // Energy of the equivalent stiffened gas (P∞ = B − A), so that E is well defined for output and for
     // the characteristic decomposition; it never feeds back into p.
     double internal_energy(double /*rho*/, double p) const { return (p + gamma * (B - A)) / (gamma - 1.0); }
@@ -120,5 +126,26 @@ struct Tait {
 };
 
 static_assert(EquationOfState<Tait>);
+
+// Tait water of the SIMD lanes (LaneForm, eos.hpp): for a density the table covers and above the cavitation
+// branch, p(ρ) is the table's B [(ρ/ρ0)^γ − 1] + A and a² = γ (p + B − A)/ρ, the very operations of Tait's
+// own, without their tests. Above the branch means ρ ≥ ρl_cav (1 + 1e-9): there p exceeds p_cav by about
+// 1e-9 ρ a² (2 Pa), far above the table's rounding, so Tait's sound speed takes its liquid branch too.
+struct TaitLiquid : Tait {
+    TaitLiquid() = default;
+    explicit TaitLiquid(const Tait& t) : Tait(t) {
+        if (!table) return; // nothing holds: every block goes one cell at a time
+        lo_ = std::max(table->lowest(), cavitation ? cav.rho_l_cav * (1.0 + 1e-9) : 0.0);
+        hi_ = table->highest();
+    }
+    bool holds(double rho) const { return (rho >= lo_) & (rho < hi_); } // false for NaN
+    double pressure(double rho, double /*rho_e*/) const { return B * table->power_minus_one(rho) + A; }
+    double sound_speed(double rho, double p) const { return liquid_sound_speed(rho, p); }
+
+  private:
+    double lo_ = 1.0, hi_ = 0.0;
+};
+
+static_assert(EquationOfState<TaitLiquid>);
 
 } // namespace undex::fluid

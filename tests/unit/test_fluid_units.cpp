@@ -149,6 +149,51 @@ TEST(Eos, TaitTableMatchesPowOverItsRange) {
     EXPECT_TRUE(std::isnan(w.pressure(std::nan(""), 0)));
 }
 
+// TaitLiquid, the Tait water of the SIMD lanes, is Tait itself, bitwise, in p and in a wherever it holds
+// (compared with Tait's own evaluation, tests and all), and holds nowhere else: not in the cavitation
+// branch or at its edge ρl_cav, not outside the table, not for NaN, nowhere without a table. Sampled over
+// 0.1 to 2100 kg/m³ and densely across the edge ρl_cav (1 + 1e-9) of the range it claims; at every density
+// it holds, Tait's pressure lies above p_cav, so that Tait's sound speed takes the branch TaitLiquid has.
+TEST(Eos, TaitLiquidIsTaitWhereItHolds) {
+    Tait w;
+    w.cavitation = true;
+    w.cav.p_cav = 2338.0, w.cav.rho_g_cav = 0.0173, w.cav.gamma_g = 1.4, w.cav.alpha0 = 1e-5;
+    w.cav.finalize();
+    w.finalize();
+    const TaitLiquid lanes(w);
+    const double edge = w.cav.rho_l_cav * (1.0 + 1e-9);
+    std::vector<double> rhos;
+    for (int k = 0; k < 200000; ++k)
+        rhos.push_back(0.1 * std::pow(21000.0, (k + 0.5) / 200000.0));
+    for (int k = -2000; k <= 2000; ++k)
+        rhos.push_back(edge + k * 1e-9);
+    double at = edge;
+    for (int k = 0; k < 50; ++k)
+        rhos.push_back(at), rhos.push_back(std::nextafter(at, 0.0)), at = std::nextafter(at, 2000.0);
+    long held = 0;
+    for (double rho : rhos) {
+        if (!lanes.holds(rho)) continue;
+        ++held;
+        const double p = w.pressure(rho, 0);
+        ASSERT_GT(p, w.cav.p_cav) << rho;
+        ASSERT_EQ(lanes.pressure(rho, 0), p) << rho;
+        ASSERT_EQ(lanes.sound_speed(rho, p), w.sound_speed(rho, p)) << rho;
+    }
+    EXPECT_GT(held, 10000);
+    EXPECT_FALSE(lanes.holds(w.cav.rho_l_cav));
+    EXPECT_FALSE(lanes.holds(std::nextafter(edge, 0.0)));
+    EXPECT_TRUE(lanes.holds(edge));
+    EXPECT_TRUE(lanes.holds(1000.0));
+    EXPECT_TRUE(lanes.holds(std::nextafter(2000.0, 0.0)));
+    EXPECT_FALSE(lanes.holds(2000.0)); // the table's end
+    EXPECT_FALSE(lanes.holds(std::nan("")));
+    Tait liquid; // without cavitation: from the table's start
+    liquid.finalize();
+    EXPECT_TRUE(TaitLiquid(liquid).holds(500.0));
+    EXPECT_FALSE(TaitLiquid(liquid).holds(std::nextafter(500.0, 0.0)));
+    EXPECT_FALSE(TaitLiquid(Tait{}).holds(1000.0)); // no table
+}
+
 TEST(Eos, StiffenedGasRoundTrip) {
     StiffenedGas w{7.15, 3.309e8};
     const double rho = 1000, p = 1e5;
