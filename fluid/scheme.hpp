@@ -745,10 +745,9 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             }
     }
 
-    // Cells (faces) per block of the volume (face) loops: one per SIMD lane. Barotropic water one at a time:
-    // Tait's p(ρ) (the table's range test, pow outside it, the cavitation branch) keeps the lane loops from
-    // vectorising, and the faces' branchless HLLC then costs more than it saves (the application 1.17×
-    // slower per step with 8 lanes: tests/bench/two_fluid_step.sh).
+    // Cells (faces) per block of the volume (face) loops: one per SIMD lane. Tait water runs in them through
+    // its LaneForm (TaitLiquid, without the table's range test and the cavitation branch); a block it does
+    // not hold goes one cell at a time (lanes_hold).
     static constexpr int LANES = 8;
 
     // The equation of state of a block of W cells or faces: LaneForm's for W > 1 (without branches, so that
