@@ -677,3 +677,36 @@ TEST(Indicator, TvbThresholdUsesTheLengthOfItsDirection) {
         EXPECT_EQ(s.troubled_cells(), factor > 1 ? 1 : 0) << factor << "× threshold";
     }
 }
+
+// Barotropic positivity bounds the velocity at the points (Scheme::positivity). Tait water, degree 1, no
+// limiter: cell 1 holds ρ = ρ̄ (1 + ξ) (its left trace is 0, below the density floor) under a uniform
+// momentum ρ̄ u with u = 10 m/s. The density scaling alone puts the left trace at the floor, 1e-10 ρ̄, where
+// that momentum is a velocity of 1e11 m/s (what made HLLC return NaN in the paper-resolution application);
+// the velocity scaling must bring every point within |ū| + 2 c0 (c0 the liquid's sound speed at rest), keep
+// the cell's averages, and keep the density positive.
+TEST(Positivity, BarotropicPointVelocityIsBounded) {
+    Tait w;
+    w.rho0 = 1025;
+    w.finalize();
+    const std::array<Boundary, 4> bc{};
+    Scheme<1, 1, Tait> s(mesh_1d(3, 0, 3), w, unit_settings(Indicator::None, Limiter::None), bc);
+    const double rho = 1025, u = 10;
+    s.project([&](double x, double, double* U) {
+        const int i = std::clamp(static_cast<int>(std::floor(x)), 0, 2);
+        const double xi = 2 * (x - (i + 0.5));
+        U[0] = i == 1 ? rho * (1 + xi) : rho;
+        U[1] = rho * u;
+        U[2] = w.internal_energy(rho, w.pressure(rho, 0)) + 0.5 * rho * u * u;
+    });
+    const auto c = s.coefficients(); // [cell][variable][basis], 2 modes of 3 variables
+    const double* c1 = c.data() + 1 * 6;
+    const double bound = u + 2 * w.liquid_sound_speed(w.rho0, w.A);
+    EXPECT_NEAR(c1[0], rho, 1e-12 * rho);   // the averages are kept
+    EXPECT_NEAR(c1[2], rho * u, 1e-12 * rho * u);
+    for (double xi : {-1.0, 1.0}) {
+        const double r = c1[0] + c1[1] * xi, m = c1[2] + c1[3] * xi;
+        std::printf("xi %+.0f: rho %.6e, u %.6e (bound %.1f)\n", xi, r, m / r, bound);
+        EXPECT_GT(r, 0.0);
+        EXPECT_LE(std::abs(m / r), bound * (1 + 1e-12));
+    }
+}
