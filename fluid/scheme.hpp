@@ -1254,6 +1254,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         std::string bad_what;
         const bool scale = set_.positivity && K > 0;
         const double eps = set_.positivity_epsilon;
+        const double margin = velocity_margin();
         long count = 0;
 #pragma omp parallel for reduction(+ : count) schedule(dynamic, 8) if (D == 2)
         for (int j = 0; j < ny; ++j)
@@ -1288,7 +1289,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 }
                 if (!scale) continue;
                 const double rho_floor = eps * avg[0];
-                if (clear_of_floors(c, avg, rho_floor, p_avg)) continue;
+                if (clear_of_floors(c, avg, rho_floor, p_avg, margin)) continue;
                 // One pass finds the smallest density and pressure margin over the points; most cells need
                 // nothing more.
                 double Q[NV][NP];
@@ -1302,13 +1303,14 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                             m_min = std::min(
                                 m_min, eos_.pressure_margin(euler::pressure<D>(eos_, euler::AtPoint{Q, k})));
                         }
-                const double V = Eos::barotropic ? velocity_bound(avg) : 0.0;
+                const double V = Eos::barotropic ? velocity_bound(avg, margin) : 0.0;
                 bool slow = false; // barotropic: a point whose velocity exceeds V
                 if constexpr (Eos::barotropic)
                     for (int k = 0; k < NP; ++k)
                         for (int d = 0; d < D; ++d)
                             slow = slow || !(std::abs(Q[1 + d][k]) <= V * Q[0][k]);
-                if (rho_min >= rho_floor && (Eos::barotropic ? !slow : m_min >= eps * eos_.pressure_margin(p_avg)))
+                if (rho_min >= rho_floor &&
+                    (Eos::barotropic ? !slow : m_min >= eps * eos_.pressure_margin(p_avg)))
                     continue;
                 ++count;
                 if (rho_min < rho_floor) {
@@ -1356,25 +1358,31 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         if (bad_i >= 0) fail_cell(bad_i, bad_j, bad_what, t);
     }
 
+    // The largest velocity component a point of a barotropic cell may carry: the average's largest component
+    // plus `margin`, twice the liquid's sound speed at rest (velocity_margin; water never varies by that much
+    // across a cell, near-vacuum points of cavitating water do, through the density floor alone).
+    double velocity_bound(const double* avg, double margin) const {
+        double u = 0.0;
+        for (int d = 0; d < D; ++d)
+            u = std::max(u, std::abs(avg[1 + d] / avg[0]));
+        return u + margin;
+    }
+    double velocity_margin() const {
+        if constexpr (Eos::barotropic)
+            return 2.0 * eos_.liquid_sound_speed(eos_.rho0, eos_.A);
+        else
+            return 0.0;
+    }
+
     // Whether cell c is admissible at every point by bounds alone, without evaluating it there (positivity's
     // fast path; the same answer as the points give wherever it says yes). Each variable lies within
     // avg ± Σ_l≥1 |c_l| max|φ_l| at the points; the density's lower bound must clear rho_floor, and for the
     // stiffened gas (whose p depends on ρe alone and increases with it) ρe ≥ E_lo − |m|²_hi / (2 ρ_lo) must
-    // give a margin that clears the floor. Each bound is lowered by 1e-12 of its magnitudes, far above the
+    // give a margin that clears the floor; for barotropic water |ρu_d| ≤ V ρ_lo (velocity_bound) must hold at
+    // the bounds. Each bound is lowered by 1e-12 of its magnitudes, far above the
     // rounding of these few operations.
-    // The largest velocity component a point of a barotropic cell may carry: the average's largest component
-    // plus twice the liquid's sound speed at rest (water never varies by that much across a cell; near-vacuum
-    // points of cavitating water do, through the density floor alone).
-    double velocity_bound(const double* avg) const {
-        double u = 0.0;
-        for (int d = 0; d < D; ++d)
-            u = std::max(u, std::abs(avg[1 + d] / avg[0]));
-        if constexpr (Eos::barotropic)
-            return u + 2.0 * eos_.liquid_sound_speed(eos_.rho0, eos_.A);
-        else
-            return u;
-    }
-    bool clear_of_floors(const double* c, const double* avg, double rho_floor, double p_avg) const {
+    bool clear_of_floors(const double* c, const double* avg, double rho_floor, double p_avg,
+                         double margin) const {
         double spread[NV];
         for (int v = 0; v < NV; ++v) {
             double t = 0.0;
@@ -1385,7 +1393,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         const double rho_lo = avg[0] - spread[0] - 1e-12 * (avg[0] + spread[0]);
         if (!(rho_lo >= rho_floor && rho_lo > 0)) return false;
         if constexpr (Eos::barotropic) {
-            const double V = velocity_bound(avg);
+            const double V = velocity_bound(avg, margin);
             for (int d = 0; d < D; ++d)
                 if (!(std::abs(avg[1 + d]) + spread[1 + d] <= V * rho_lo)) return false;
             return true;

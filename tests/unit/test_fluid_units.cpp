@@ -700,7 +700,7 @@ TEST(Positivity, BarotropicPointVelocityIsBounded) {
     });
     const auto c = s.coefficients(); // [cell][variable][basis], 2 modes of 3 variables
     const double* c1 = c.data() + 1 * 6;
-    const double bound = u + 2 * w.liquid_sound_speed(w.rho0, w.A);
+    const double bound = u + 2 * std::sqrt(w.gamma * w.B / w.rho0); // c0 of Tait water at rest, p = A
     EXPECT_NEAR(c1[0], rho, 1e-12 * rho);   // the averages are kept
     EXPECT_NEAR(c1[2], rho * u, 1e-12 * rho * u);
     for (double xi : {-1.0, 1.0}) {
