@@ -117,6 +117,11 @@ class FluidRun : public Run {
         const Mesh& m = solver_->mesh();
         frame_interval_ = m.dim == 2 ? o.frame_interval() : 0.0;
         frame_stride_ = std::max(1, static_cast<int>(std::lround(o.frame_cell() / std::max(m.dx, m.dy))));
+        // The structure waits for the first grant meanwhile: heartbeats, as for an output (at the paper's
+        // resolution the first fields take longer than one coupling timeout to write).
+        std::optional<h5::WriteHook> keep_waiting;
+        if (link_) keep_waiting.emplace([this] { beat(); }, 1.0);
+        beat();
         if (resume) {
             state(*resume);
             State o = resume->scope("output");

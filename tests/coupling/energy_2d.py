@@ -15,7 +15,9 @@ work (the face moves inside cells that stay real). Bound: |ΔE + W| ≤ 0.036 |W
 1e-4 s: about 29 J of the start-up, then 0.5 % to 1.2 %); the mass of the box's fluid within 1e-5 (measured
 2.2e-6). The work the fluid records equals the one the structure solver records from its own messages
 (moving_plate.py's /coupling work, the same formula on the same numbers) to 1e-12 relative, and both sides
-took the same steps.
+took the same steps. The fluid sends a heartbeat before it writes its first fields after the handshake, so
+that the structure's wait for the first Grant does not time out at a large resolution (docs/protocol.md §5):
+moving_plate.py counts at least one before the first Grant.
 
     energy_2d.py [--build DIR] [--work DIR]
 """
@@ -76,6 +78,11 @@ output {{ times: {times} directory: "{work}" }}
             E = (p + GAMMA * PINF) / (GAMMA - 1) + 0.5 * rho * (u * u + v * v)
             frac = np.clip(0.5 - phi / DX, 0, 1)
             return (E * frac).sum() * DX * DX
+
+        beats = s["coupling/heartbeats"][:]
+        check(len(beats) > 0 and beats[0] >= 1,
+              f"the fluid beats before the first Grant, as it writes its first fields: "
+              f"{int(beats[0]) if len(beats) else 0} heartbeat(s) >= 1")
 
         E0, M0 = energy(f["fields/000000"]), f["fields/000000"].attrs["mass"]
         for g in sorted(f["fields"])[1:]:

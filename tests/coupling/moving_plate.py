@@ -22,7 +22,8 @@ axisymmetry, per radian; r = 1 in plane strain), from the positions at the start
 
 Record (--history FILE.h5, written when the run ends, also on a failure), group /coupling, one row per step:
 t, dt, dt_s (the step offered), work (Σ_k p_I,k u_I,k A_k Δt) and per node (steps × nodes) p_I, u_I, p_L,
-u_L, Z_L, area (A_k of the start of the step), x, y (the positions answered, at t + Δt); /coupling/face the
+u_L, Z_L, area (A_k of the start of the step), x, y (the positions answered, at t + Δt), heartbeats (how many
+arrived while this side waited for the step's Grant); /coupling/face the
 face of each node. tests/support/checks.py coupled_steps reads it like solid.h5. Exit codes: 0 when the fluid
 ends the run, 3 on a coupling failure, 4 on SIGTERM or SIGHUP.
 """
@@ -125,6 +126,8 @@ def main():
             getattr(e, name).CopyFrom(msg)
         sock.send(e.SerializeToString())
 
+    beats = [0]  # heartbeats received since the last Grant
+
     def receive(step, kind, timeout):
         while True:
             if not sock.poll(int(timeout * 1000)):
@@ -138,6 +141,7 @@ def main():
                 raise RuntimeError(f"the fluid solver speaks protocol {e.protocol}, this side {version}")
             body = e.WhichOneof("body")
             if body == "heartbeat":
+                beats[0] += 1
                 continue
             if body == "error":
                 raise RuntimeError(f"the fluid solver stopped with an error at step {step}: {e.error.message}")
@@ -145,7 +149,8 @@ def main():
                 return e
             raise RuntimeError(f"the fluid solver sent {body} of step {e.step} where {kind} of step {step} was expected")
 
-    rec = {k: [] for k in ("t", "dt", "dt_s", "work", "p_I", "u_I", "p_L", "u_L", "Z_L", "area", "x", "y")}
+    rec = {k: [] for k in ("t", "dt", "dt_s", "work", "p_I", "u_I", "p_L", "u_L", "Z_L", "area", "x", "y",
+                           "heartbeats")}
     step = 0
     try:
         xs, ys = positions(0.0)
@@ -162,6 +167,7 @@ def main():
         while True:
             step += 1
             send(step, offer=pb.Offer(dt=a.dt, x=xs, y=ys, velocity=u))
+            beats[0] = 0
             g = receive(step, "grant", a.timeout)
             if g.WhichOneof("body") == "stop":
                 print(f"moving_plate.py: done at t = {t:.6g} s: {g.stop.reason}", flush=True)
@@ -180,7 +186,8 @@ def main():
             send(step, answer=pb.Answer(p_I=p_I, u_I=u, x=xs, y=ys))
             for key, val in (("t", t), ("dt", dt), ("dt_s", a.dt), ("p_I", p_I), ("u_I", u), ("p_L", list(g.p_L)),
                              ("u_L", list(g.u_L)), ("Z_L", list(g.Z_L)), ("area", A), ("x", xs), ("y", ys),
-                             ("work", sum(p * uk * Ak * dt for p, uk, Ak in zip(p_I, u, A)))):
+                             ("work", sum(p * uk * Ak * dt for p, uk, Ak in zip(p_I, u, A))),
+                             ("heartbeats", beats[0])):
                 rec[key].append(val)
             t += dt
     except RuntimeError as err:
