@@ -51,12 +51,14 @@ def main():
             getattr(e, k).CopyFrom(v)
         s.send(e.SerializeToString())
 
-    def recv():
-        if not s.poll(10000):
-            raise SystemExit("bad_peer: the other side went silent")
-        e = pb.Envelope()
-        e.ParseFromString(s.recv())
-        return e
+    def recv():  # the next message that is not a Heartbeat (a peer may send them while it works)
+        while True:
+            if not s.poll(10000):
+                raise SystemExit("bad_peer: the other side went silent")
+            e = pb.Envelope()
+            e.ParseFromString(s.recv())
+            if e.WhichOneof("body") != "heartbeat":
+                return e
 
     def varint(n):
         out = b""
