@@ -35,8 +35,6 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         u0_.assign(n, 0.0);
         stage_.assign(n, 0.0);
         rhs_.assign(n, 0.0);
-        fx_.assign(static_cast<long>(mesh_.nx + 1) * mesh_.ny * NQF * NV, 0.0);
-        if (D == 2) fy_.assign(static_cast<long>(mesh_.ny + 1) * mesh_.nx * NQF * NV, 0.0);
         troubled_flag_.assign(mesh_.padded_cells(), 0);
         if (s.skip_rest) set_rest(s.rest);
         active_changed();
@@ -385,7 +383,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     static constexpr int NP = NQV + 2 * D * NQF;
     double points_[NB][NP];
     double point_max_[NB]; // max over the points of |φ_l|
-    std::vector<double> u_, u0_, stage_, rhs_, fx_, fy_;
+    std::vector<double> u_, u0_, stage_, rhs_;
+    std::vector<std::vector<double>> band_faces_; // per thread: the face fluxes of its band (compute_rhs)
     std::vector<char> troubled_flag_;
     double time_ = 0.0, last_dt_ = 0.0;
     long steps_ = 0;
@@ -659,90 +658,122 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         compute_rhs(U, t, st);
     }
 
-    // The hot loop of the solver: face fluxes (faces_flux), then volume and face integrals with the
-    // source (cells_rhs), over blocks of LANES faces or cells of a row; the stage st is written straight
-    // from L(U).
+    // The hot loop of the solver, over bands of BAND rows: a band computes the fluxes through the x faces of
+    // its rows and through the y faces below, between and above them (faces_flux) into its thread's buffer,
+    // then the volume and face integrals with the source of its cells (cells_rhs), over blocks of LANES
+    // faces or cells of a row; the stage st is written straight from L(U). The band's faces stay in cache
+    // from one to the other (no array of all the faces); a y face between two bands is computed by both,
+    // the same value.
+    static constexpr int BAND = 8;
     void compute_rhs(std::vector<double>& Uvec, double t, const Stage& st) {
         double* U = Uvec.data();
         double* out = st.out.data();
         const double* xs = st.x.data();
         const double sa = st.a, sb = st.b, sbdt = st.bdt;
-        const bool layered = !layer_cell_.empty();
         fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
         if (stage_ghosts_) stage_ghosts_(U);
-        const int nx = mesh_.nx, ny = mesh_.ny;
-        // Fluxes through x faces: face i lies between cells i − 1 and i; in blocks of LANES faces of a row
-        // whose fluxes are needed (faces_flux).
+        const int nx = mesh_.nx, ny = mesh_.ny, bands = (ny + BAND - 1) / BAND;
+        const long xrow = static_cast<long>(nx + 1) * NQF * NV, yrow = static_cast<long>(nx) * NQF * NV;
+#ifdef _OPENMP
+        const size_t threads = D == 2 ? omp_get_max_threads() : 1;
+#else
+        const size_t threads = 1;
+#endif
+        if (band_faces_.size() < threads) band_faces_.resize(threads);
 // Rows differ in cost (the gas, cavitating water and shocked water lie in some rows only): dynamic.
-#pragma omp parallel for schedule(dynamic, 8) if (D == 2)
-        for (int j = 0; j < ny; ++j) {
-            if (hi_[j] <= lo_[j]) continue;
-            auto needed = [&](int i) { return active(i - 1, j) || active(i, j); };
-            for (int i = lo_[j]; i <= hi_[j];) {
-                if (!needed(i)) {
-                    ++i;
-                    continue;
-                }
-                int n = 1;
-                while (n < LANES && i + n <= hi_[j] && needed(i + n))
-                    ++n;
-                if (n == LANES)
-                    faces_flux<0, LANES>(U, i, j), i += LANES;
-                else
-                    faces_flux<0, 1>(U, i, j), ++i;
+#pragma omp parallel if (D == 2)
+        {
+#ifdef _OPENMP
+            std::vector<double>& faces = band_faces_[omp_get_thread_num()];
+#else
+            std::vector<double>& faces = band_faces_[0];
+#endif
+            faces.resize(BAND * xrow + (D == 2 ? (BAND + 1) * yrow : 0)); // once per thread
+#pragma omp for schedule(dynamic, 1)
+            for (int b = 0; b < bands; ++b) {
+                const int j0 = b * BAND, j1 = std::min(ny, j0 + BAND);
+                double* fx = faces.data();     // x faces of row j at fx + (j − j0)·xrow
+                double* fy = fx + BAND * xrow; // y faces of face row j (j0 … j1) at fy + (j − j0)·yrow
+                for (int j = j0; j < j1; ++j)
+                    x_faces(U, j, fx + (j - j0) * xrow);
+                if constexpr (D == 2)
+                    for (int j = j0; j <= j1; ++j)
+                        y_faces(U, j, fy + (j - j0) * yrow);
+                for (int j = j0; j < j1; ++j)
+                    cells_row(U, out, xs, sa, sb, sbdt, j, fx + (j - j0) * xrow, fy + (j - j0) * yrow,
+                              fy + (j - j0 + 1) * yrow);
             }
         }
-        if constexpr (D == 2) {
-            // Fluxes through y faces: face j lies between cells j − 1 and j.
-#pragma omp parallel for schedule(dynamic, 8) if (D == 2)
-            for (int j = 0; j <= ny; ++j) {
-                // Faces of this row touch the cells of rows j − 1 and j.
-                int i0 = nx, i1 = 0;
-                for (int r : {j - 1, j})
-                    if (r >= 0 && r < ny && hi_[r] > lo_[r])
-                        i0 = std::min(i0, lo_[r]), i1 = std::max(i1, hi_[r]);
-                auto needed = [&](int i) { return active(i, j - 1) || active(i, j); };
-                for (int i = i0; i < i1;) {
-                    if (!needed(i)) {
-                        ++i;
-                        continue;
-                    }
-                    int n = 1;
-                    while (n < LANES && i + n < i1 && needed(i + n))
-                        ++n;
-                    if (n == LANES)
-                        faces_flux<1, LANES>(U, i, j), i += LANES;
-                    else
-                        faces_flux<1, 1>(U, i, j), ++i;
+    }
+    // Fluxes through the x faces of row j (face i lies between cells i − 1 and i) whose fluxes are needed,
+    // in blocks of LANES faces, into frow (face i at i·NQF·NV).
+    void x_faces(const double* U, int j, double* frow) {
+        if (hi_[j] <= lo_[j]) return;
+        auto needed = [&](int i) { return active(i - 1, j) || active(i, j); };
+        for (int i = lo_[j]; i <= hi_[j];) {
+            if (!needed(i)) {
+                ++i;
+                continue;
+            }
+            int n = 1;
+            while (n < LANES && i + n <= hi_[j] && needed(i + n))
+                ++n;
+            if (n == LANES)
+                faces_flux<0, LANES>(U, i, j, frow), i += LANES;
+            else
+                faces_flux<0, 1>(U, i, j, frow), ++i;
+        }
+    }
+    // Fluxes through the y faces of face row j (between cells (i, j − 1) and (i, j)), as x_faces.
+    void y_faces(const double* U, int j, double* frow) {
+        const int nx = mesh_.nx, ny = mesh_.ny;
+        // Faces of this row touch the cells of rows j − 1 and j.
+        int i0 = nx, i1 = 0;
+        for (int r : {j - 1, j})
+            if (r >= 0 && r < ny && hi_[r] > lo_[r]) i0 = std::min(i0, lo_[r]), i1 = std::max(i1, hi_[r]);
+        auto needed = [&](int i) { return active(i, j - 1) || active(i, j); };
+        for (int i = i0; i < i1;) {
+            if (!needed(i)) {
+                ++i;
+                continue;
+            }
+            int n = 1;
+            while (n < LANES && i + n < i1 && needed(i + n))
+                ++n;
+            if (n == LANES)
+                faces_flux<1, LANES>(U, i, j, frow), i += LANES;
+            else
+                faces_flux<1, 1>(U, i, j, frow), ++i;
+        }
+    }
+    // Volume integrals and the stage of row j, over blocks of LANES active cells (cells_rhs), from the
+    // fluxes of its x faces (fx) and of the y faces below (fb) and above (ft) it; a cell asleep keeps its
+    // value through the stage (an absorbing layer's cell of the fluid's region still relaxes, by 0 at rest).
+    void cells_row(const double* U, double* out, const double* xs, double sa, double sb, double sbdt, int j,
+                   const double* fx, const double* fb, const double* ft) const {
+        const bool layered = !layer_cell_.empty();
+        for (int i = lo_[j]; i < hi_[j]; ++i) {
+            if (!active(i, j)) {
+                const long k0 = static_cast<long>(mesh_.index(i, j)) * NC;
+                const int layer = layered ? layer_of_[mesh_.index(i, j)] : -1;
+                const bool relax = layer >= 0 && (!active_ || (*active_)[mesh_.index(i, j)]);
+                for (long k = k0; k < k0 + NC; ++k) {
+                    double r = 0.0;
+                    if (relax) r -= layer_sigma_[layer] * (U[k] - layer_ref_[layer * NC + (k - k0)]);
+                    out[k] = sa * xs[k] + sb * U[k] + sbdt * r;
                 }
+                continue;
+            }
+            int n = 1; // a block of LANES active cells, or this cell alone
+            while (n < LANES && i + n < hi_[j] && active(i + n, j))
+                ++n;
+            if (n == LANES) {
+                cells_rhs<LANES>(U, out, xs, sa, sb, sbdt, i, j, fx, fb, ft);
+                i += LANES - 1;
+            } else {
+                cells_rhs<1>(U, out, xs, sa, sb, sbdt, i, j, fx, fb, ft);
             }
         }
-        // Volume integrals and the stage, over blocks of LANES active cells of a row (cells_rhs).
-#pragma omp parallel for schedule(dynamic, 8) if (D == 2)
-        for (int j = 0; j < ny; ++j)
-            for (int i = lo_[j]; i < hi_[j]; ++i) {
-                if (!active(i, j)) {
-                    const long k0 = static_cast<long>(mesh_.index(i, j)) * NC;
-                    // A layer cell of the fluid's region that sleeps still relaxes (by 0 at rest).
-                    const int layer = layered ? layer_of_[mesh_.index(i, j)] : -1;
-                    const bool relax = layer >= 0 && (!active_ || (*active_)[mesh_.index(i, j)]);
-                    for (long k = k0; k < k0 + NC; ++k) {
-                        double r = 0.0;
-                        if (relax) r -= layer_sigma_[layer] * (U[k] - layer_ref_[layer * NC + (k - k0)]);
-                        out[k] = sa * xs[k] + sb * U[k] + sbdt * r;
-                    }
-                    continue;
-                }
-                int n = 1; // a block of LANES active cells, or this cell alone
-                while (n < LANES && i + n < hi_[j] && active(i + n, j))
-                    ++n;
-                if (n == LANES) {
-                    cells_rhs<LANES>(U, out, xs, sa, sb, sbdt, i, j);
-                    i += LANES - 1;
-                } else {
-                    cells_rhs<1>(U, out, xs, sa, sb, sbdt, i, j);
-                }
-            }
     }
 
     // Cells (faces) per block of the volume (face) loops: one per SIMD lane. Tait water runs in them through
@@ -773,9 +804,9 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 
     // The HLLC fluxes at the NQF points of W consecutive faces of direction Dir, one per SIMD lane: the x
     // faces i … i + W − 1 of row j (between cells i + w − 1 and i + w) or the y faces of row j (between
-    // cells (i + w, j − 1) and (i + w, j)). Each lane computes what W = 1 computes, to the last bit.
-    template <int Dir, int W> void faces_flux(const double* U, int i, int j) {
-        const int nx = mesh_.nx;
+    // cells (i + w, j − 1) and (i + w, j)), into the row's fluxes frow (face i at i·NQF·NV). Each lane
+    // computes what W = 1 computes, to the last bit.
+    template <int Dir, int W> void faces_flux(const double* U, int i, int j, double* frow) {
         const double* lo0 = Dir == 0 ? cell(U, i - 1, j) : cell(U, i, j - 1); // lane w's cells at w·NC
         const double* hi0 = cell(U, i, j);
         double cl[NC][W], cr[NC][W];
@@ -784,8 +815,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 cl[k][w] = lo0[w * NC + k];
                 cr[k][w] = hi0[w * NC + k];
             }
-        double* f0 = Dir == 0 ? fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV
-                              : fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
+        double* f0 = frow + static_cast<long>(i) * NQF * NV;
         for (int g = 0; g < NQF; ++g) {
             double ql[NV][W], qr[NV][W], pl[W], pr[W], F[NV][W];
             for (int v = 0; v < NV; ++v)
@@ -801,7 +831,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             if (!lanes_hold<W, 1>(ql[0]) || !lanes_hold<W, 1>(qr[0])) {
                 // Water cavitating or outside the table somewhere in the block: its faces one at a time.
                 for (int w = 0; w < W; ++w)
-                    faces_flux<Dir, 1>(U, i + w, j);
+                    faces_flux<Dir, 1>(U, i + w, j, frow);
                 return;
             }
             const auto& eos = lane_eos<W>();
@@ -818,12 +848,12 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     }
 
     // The stage out = sa·xs + sb·U + sbdt·L(U) of W consecutive active cells of row j from cell i, one per
-    // SIMD lane (the arrays' last index). Each lane performs the operations of the one-cell case W = 1 in
-    // the same order, so that the result does not depend on W, to the last bit.
+    // SIMD lane (the arrays' last index), from the row's face fluxes (cells_row). Each lane performs the
+    // operations of the one-cell case W = 1 in the same order, so that the result does not depend on W, to
+    // the last bit.
     template <int W>
     void cells_rhs(const double* U, double* out, const double* xs, double sa, double sb, double sbdt, int i,
-                   int j) const {
-        const int nx = mesh_.nx;
+                   int j, const double* fxrow, const double* fbrow, const double* ftrow) const {
         const double* c0 = cell(U, i, j); // the W cells follow at strides of NC
         double c[NC][W];
         for (int k = 0; k < NC; ++k)
@@ -842,7 +872,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 }
         if (!lanes_hold<W, NQV>(&s[0][0][0])) { // as faces_flux
             for (int w = 0; w < W; ++w)
-                cells_rhs<1>(U, out, xs, sa, sb, sbdt, i + w, j);
+                cells_rhs<1>(U, out, xs, sa, sb, sbdt, i + w, j, fxrow, fbrow, ftrow);
             return;
         }
         for (int q = 0; q < NQV; ++q)
@@ -908,13 +938,13 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         const double idx = 1.0 / mesh_.dx, idy = 1.0 / mesh_.dy;
         constexpr int NF = NQF * NV; // values per face
         double fx[NF][W + 1], fb[NF][W], ft[NF][W];
-        const double* fx0 = fx_.data() + ((static_cast<long>(j) * (nx + 1) + i) * NQF) * NV;
+        const double* fx0 = fxrow + static_cast<long>(i) * NF;
         for (int k = 0; k < NF; ++k)
             for (int w = 0; w <= W; ++w)
                 fx[k][w] = fx0[w * NF + k];
         if constexpr (D == 2) {
-            const double* fb0 = fy_.data() + ((static_cast<long>(j) * nx + i) * NQF) * NV;
-            const double* ft0 = fb0 + static_cast<long>(nx) * NF;
+            const double* fb0 = fbrow + static_cast<long>(i) * NF;
+            const double* ft0 = ftrow + static_cast<long>(i) * NF;
             for (int k = 0; k < NF; ++k)
                 for (int w = 0; w < W; ++w) {
                     fb[k][w] = fb0[w * NF + k];
