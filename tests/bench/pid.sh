@@ -18,16 +18,7 @@ trap 'rm -rf "$out"' EXIT
 pin=false
 if command -v taskset > /dev/null && [ "$(nproc)" -ge 2 ]; then pin=true; fi
 
-# one_run THREADS CPUS TAG: prints "STEPS WALL"
-one_run() {
-    local cmd=("$build/bin/undex-fluid" cases/riemann_2d.case --set domain.cells_x="$n" --set domain.cells_y="$n"
-               --set end_time="$t_end" --set output.times[0]="$t_end" --set numerics.threads="$1"
-               --set output.directory="$out/run$3" --set output.progress_seconds=1000
-               --set numerics.limiter=weno --set numerics.indicator=tvb --set numerics.skip_rest=false)
-    if $pin; then cmd=(taskset -c "$2" "${cmd[@]}"); fi
-    "${cmd[@]}" | sed -n 's/.*done: \([0-9]*\) steps, wall \([0-9.]*\) s.*/\1 \2/p'
-}
-median() { sort -g | awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }'; }
+source "$(dirname "$0")/pid_run.sh"
 
 declare -A median_wall
 for threads in 1 2; do
