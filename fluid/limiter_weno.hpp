@@ -5,6 +5,8 @@
 #pragma once
 #include "fluid/basis.hpp"
 
+#include <stdexcept>
+
 namespace undex::fluid {
 
 template <int D, int K> struct WenoTables {
@@ -13,6 +15,7 @@ template <int D, int K> struct WenoTables {
     static constexpr int NN = 2 * D; // face neighbours: −x, +x, −y, +y
     double shift[NN][NB][NB];        // coefficients of a neighbour's polynomial in this cell's basis
     double smooth[NB][NB];           // β = cᵀ S c
+    double smooth_diag[NB];          // its diagonal: S is diagonal for this orthogonal basis (checked)
 
     WenoTables() {
         // 3-point Gauss per direction integrates products of degree-2 polynomials exactly.
@@ -68,6 +71,14 @@ template <int D, int K> struct WenoTables {
                 smooth[l][m] = s;
             }
         symmetrise();
+        // Derivatives of the modes are orthogonal too (∂ξ of 1, ξ, η, ξη, ξ² − 1/3, η² − 1/3 are 0, 1, 0, η,
+        // 2ξ, 0), so S is diagonal: the limiter sums the diagonal alone.
+        for (int l = 0; l < NB; ++l) {
+            smooth_diag[l] = smooth[l][l];
+            for (int m = 0; m < NB; ++m)
+                if (m != l && smooth[l][m] != 0.0)
+                    throw std::logic_error("WENO smoothness matrix is not diagonal");
+        }
     }
 
   private:

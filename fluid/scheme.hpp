@@ -1086,13 +1086,13 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                     const int nj = j + (nb == 2 ? -1 : nb == 3 ? 1 : 0);
                     const double* n = cell(U, ni, nj);
                     for (int v = 0; v < NV; ++v) {
-                        for (int l = 0; l < NB; ++l) {
+                        cand[1 + nb][v][0] = c[v * NB]; // shifted to this cell's average
+                        for (int l = 1; l < NB; ++l) {
                             double t[NB];
                             for (int m = 0; m < NB; ++m)
                                 t[m] = weno_.shift[nb][l][m] * n[v * NB + m];
                             cand[1 + nb][v][l] = B::mode_sum(t);
                         }
-                        cand[1 + nb][v][0] = c[v * NB];
                     }
                 }
                 double q[NV];
@@ -1106,36 +1106,32 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                     const Eigenvectors<NV> ev = eigenvectors(dir, w.rho, vel, a);
                     double limited[NV][NB];
                     for (int m = 0; m < NV; ++m) {
+                        // The candidates share their average (cand[k][v][0]): only the own one's is projected.
                         double ch[NCAND][NB];
                         for (int k = 0; k < NCAND; ++k)
-                            for (int l = 0; l < NB; ++l) {
+                            for (int l = k == 0 ? 0 : 1; l < NB; ++l) {
                                 double t[NV];
                                 for (int v = 0; v < NV; ++v)
                                     t[v] = ev.L[m][v] * cand[k][v][l];
                                 ch[k][l] = variable_sum(t);
                             }
+                        // β = cᵀ S c with S diagonal for this basis (WenoTables::smooth_diag, checked there).
                         double wk[NCAND];
                         for (int k = 0; k < NCAND; ++k) {
                             double beta = 0;
                             if constexpr (D == 1) {
                                 for (int l = 1; l < NB; ++l)
-                                    for (int n = 1; n < NB; ++n)
-                                        beta += ch[k][l] * weno_.smooth[l][n] * ch[k][n];
+                                    beta += ch[k][l] * weno_.smooth_diag[l] * ch[k][l];
                             } else {
                                 double outer[NB] = {};
-                                for (int l = 1; l < NB; ++l) {
-                                    double inner[NB] = {};
-                                    for (int n = 1; n < NB; ++n)
-                                        inner[n] = weno_.smooth[l][n] * ch[k][n];
-                                    outer[l] = ch[k][l] * B::mode_sum(inner);
-                                }
+                                for (int l = 1; l < NB; ++l)
+                                    outer[l] = ch[k][l] * (weno_.smooth_diag[l] * ch[k][l]);
                                 beta = B::mode_sum(outer);
                             }
                             const double lin = k == 0 ? g_c : g_nb;
                             wk[k] = lin / ((eps + beta) * (eps + beta));
                         }
                         const double wsum = candidate_sum(wk);
-                        limited[m][0] = ch[0][0];
                         for (int l = 1; l < NB; ++l) {
                             double t[NCAND];
                             for (int k = 0; k < NCAND; ++k)
@@ -1144,7 +1140,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                         }
                     }
                     for (int v = 0; v < NV; ++v)
-                        for (int l = 0; l < NB; ++l) {
+                        for (int l = 1; l < NB; ++l) { // the average is kept (below)
                             double t[NV];
                             for (int m = 0; m < NV; ++m)
                                 t[m] = ev.R[v][m] * limited[m][l];
