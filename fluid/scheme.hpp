@@ -992,241 +992,244 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 
     // Indicator + limiter + positivity on Uvec; throws SolverFailure for a cell that cannot be made
     // admissible.
+    // Two passes over the rows: the indicator and the limiter of each row (the limited polynomials go to
+    // rhs_, free at this point, so that every cell is limited from its neighbours' unlimited ones), then the
+    // copy back and the positivity of each row; one barrier between them instead of one per sweep.
     void limit(std::vector<double>& Uvec, double t, const char* stage) {
         double* U = Uvec.data();
+        double* out = rhs_.data();
         if (stage_ghosts_) stage_ghosts_(U); // also leaves the band fresh in the step's result
-        if (K > 0 && set_.limiter != Limiter::None && set_.indicator != Indicator::None) {
+        const bool limiting = K > 0 && set_.limiter != Limiter::None && set_.indicator != Indicator::None;
+        const int ny = mesh_.ny;
+        if (limiting) {
             fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
-            mark_troubled(U);
-            if (set_.limiter == Limiter::Weno)
-                weno(U);
-            else
-                minmod(U);
+            long count = 0;
+#pragma omp parallel for reduction(+ : count) schedule(dynamic, 8) if (D == 2)
+            for (int j = 0; j < ny; ++j) {
+                count += mark_row(U, j);
+                if (set_.limiter == Limiter::Weno)
+                    weno_row(U, out, j);
+                else
+                    minmod_row(U, out, j);
+            }
+            troubled_ += count;
         }
-        positivity(U, t, stage); // always: it also detects inadmissible cell averages
+        // Always: positivity also detects inadmissible cell averages.
+        BadCell bad;
+        long count = 0;
+#pragma omp parallel for reduction(+ : count) schedule(dynamic, 8) if (D == 2)
+        for (int j = 0; j < ny; ++j) {
+            if (limiting)
+                for (int i = lo_[j]; i < hi_[j]; ++i)
+                    if (troubled_flag_[mesh_.index(i, j)]) std::copy_n(cell(out, i, j), NC, cell(U, i, j));
+            count += positivity_row(U, j, stage, bad);
+        }
+        scaled_ += count;
+        if (bad.i >= 0) fail_cell(bad.i, bad.j, bad.what, t);
     }
 
-    void mark_troubled(const double* U) {
-        const int ny = mesh_.ny;
+    // The troubled cells of row j (troubled_flag_); returns their number.
+    long mark_row(const double* U, int j) {
         const double lx = mesh_.x_max - mesh_.x_min, ly = mesh_.y_max - mesh_.y_min;
         const double hx2 = (mesh_.dx / lx) * (mesh_.dx / lx), hy2 = (mesh_.dy / ly) * (mesh_.dy / ly);
         long count = 0;
-#pragma omp parallel for reduction(+ : count) schedule(dynamic, 8) if (D == 2)
-        for (int j = 0; j < ny; ++j)
-            for (int i = lo_[j]; i < hi_[j]; ++i) {
-                bool bad = set_.indicator == Indicator::All && active(i, j);
-                const double* c = cell(U, i, j);
-                if constexpr (D == 2) {
-                    // The row above, a few cells ahead, is fetched before use: the loop reads two lines of
-                    // each of three rows' cells, a pattern the hardware prefetcher misses (perf: 60 % of
-                    // the loop's time stalled on those loads; 9 % of the PID run's time saved).
-                    const double* ahead = cell(U, std::min(i + 8, mesh_.nx), j + 1);
-                    __builtin_prefetch(ahead);
-                    __builtin_prefetch(ahead + E * NB);
-                }
-                if (!active(i, j)) {
-                    troubled_flag_[mesh_.index(i, j)] = 0;
-                    continue;
-                }
-                for (int dir = 0; dir < D && !bad; ++dir) {
-                    const double* lo = dir == 0 ? cell(U, i - 1, j) : cell(U, i, j - 1);
-                    const double* hi = dir == 0 ? cell(U, i + 1, j) : cell(U, i, j + 1);
-                    const double h2 = dir == 0 ? hx2 : hy2;
-                    for (int v : {0, E}) {
-                        const double* cv = c + v * NB;
-                        const double avg = cv[0];
-                        // Face-centre values on the high and low faces of this direction.
-                        double up = 0, dn = 0;
-                        for (int l = 1; l < NB; ++l) {
-                            const int pw = dir == 0 ? B::px(l) : B::py(l);
-                            const int po = dir == 0 ? B::py(l) : B::px(l);
-                            if (pw == 0) continue;
-                            const double val = po == 0 ? 1.0 : (po == 1 ? 0.0 : -1.0 / 3.0);
-                            const double f = B::p1(pw, 1.0) * val;
-                            const double fm = B::p1(pw, -1.0) * val;
-                            up += cv[l] * f;
-                            dn += cv[l] * fm;
-                        }
-                        // Modes constant along dir shift both faces equally and are left out.
-                        const double fwd = hi[v * NB] - avg, bwd = avg - lo[v * NB];
-                        const double thr = set_.tvb_m * h2 * std::abs(avg);
-                        if (tvb_modifies(up, fwd, bwd, thr) || tvb_modifies(-dn, fwd, bwd, thr)) {
-                            bad = true;
-                            break;
-                        }
+        for (int i = lo_[j]; i < hi_[j]; ++i) {
+            bool bad = set_.indicator == Indicator::All && active(i, j);
+            const double* c = cell(U, i, j);
+            if constexpr (D == 2) {
+                // The row above, a few cells ahead, is fetched before use: the loop reads two lines of
+                // each of three rows' cells, a pattern the hardware prefetcher misses (perf: 60 % of
+                // the loop's time stalled on those loads; 9 % of the PID run's time saved).
+                const double* ahead = cell(U, std::min(i + 8, mesh_.nx), j + 1);
+                __builtin_prefetch(ahead);
+                __builtin_prefetch(ahead + E * NB);
+            }
+            if (!active(i, j)) {
+                troubled_flag_[mesh_.index(i, j)] = 0;
+                continue;
+            }
+            for (int dir = 0; dir < D && !bad; ++dir) {
+                const double* lo = dir == 0 ? cell(U, i - 1, j) : cell(U, i, j - 1);
+                const double* hi = dir == 0 ? cell(U, i + 1, j) : cell(U, i, j + 1);
+                const double h2 = dir == 0 ? hx2 : hy2;
+                for (int v : {0, E}) {
+                    const double* cv = c + v * NB;
+                    const double avg = cv[0];
+                    // Face-centre values on the high and low faces of this direction.
+                    double up = 0, dn = 0;
+                    for (int l = 1; l < NB; ++l) {
+                        const int pw = dir == 0 ? B::px(l) : B::py(l);
+                        const int po = dir == 0 ? B::py(l) : B::px(l);
+                        if (pw == 0) continue;
+                        const double val = po == 0 ? 1.0 : (po == 1 ? 0.0 : -1.0 / 3.0);
+                        const double f = B::p1(pw, 1.0) * val;
+                        const double fm = B::p1(pw, -1.0) * val;
+                        up += cv[l] * f;
+                        dn += cv[l] * fm;
+                    }
+                    // Modes constant along dir shift both faces equally and are left out.
+                    const double fwd = hi[v * NB] - avg, bwd = avg - lo[v * NB];
+                    const double thr = set_.tvb_m * h2 * std::abs(avg);
+                    if (tvb_modifies(up, fwd, bwd, thr) || tvb_modifies(-dn, fwd, bwd, thr)) {
+                        bad = true;
+                        break;
                     }
                 }
-                troubled_flag_[mesh_.index(i, j)] = bad;
-                count += bad;
             }
-        troubled_ += count;
+            troubled_flag_[mesh_.index(i, j)] = bad;
+            count += bad;
+        }
+        return count;
     }
 
     // Long on purpose (about 110 lines): the per-troubled-cell hot loop of the limiter in one piece.
-    void weno(double* U) {
-        const int ny = mesh_.ny;
-        // Limited polynomials go to rhs_ (free at this point) and are copied back, so that every cell is
-        // limited from its neighbours' unlimited polynomials.
-        double* out = rhs_.data();
+    // The troubled cells of row j limited into out.
+    void weno_row(const double* U, double* out, int j) const {
         const double g_nb = set_.weno_neighbour_weight, eps = set_.weno_epsilon;
         const double g_c = 1.0 - 2 * D * g_nb;
-#pragma omp parallel for schedule(dynamic, 16) if (D == 2)
-        for (int j = 0; j < ny; ++j)
-            for (int i = lo_[j]; i < hi_[j]; ++i) {
-                if (!troubled_flag_[mesh_.index(i, j)]) continue;
-                const double* c = cell(U, i, j);
-                // Candidate polynomials: own, then neighbours −x, +x, −y, +y shifted to this cell's average.
-                constexpr int NCAND = 1 + 2 * D;
-                double cand[NCAND][NV][NB];
-                for (int v = 0; v < NV; ++v)
-                    for (int l = 0; l < NB; ++l)
-                        cand[0][v][l] = c[v * NB + l];
-                for (int nb = 0; nb < 2 * D; ++nb) {
-                    const int ni = i + (nb == 0 ? -1 : nb == 1 ? 1 : 0);
-                    const int nj = j + (nb == 2 ? -1 : nb == 3 ? 1 : 0);
-                    const double* n = cell(U, ni, nj);
-                    for (int v = 0; v < NV; ++v) {
-                        cand[1 + nb][v][0] = c[v * NB]; // shifted to this cell's average
-                        for (int l = 1; l < NB; ++l) {
-                            double t[NB];
-                            for (int m = 0; m < NB; ++m)
-                                t[m] = weno_.shift[nb][l][m] * n[v * NB + m];
-                            cand[1 + nb][v][l] = B::mode_sum(t);
-                        }
-                    }
-                }
-                double q[NV];
-                for (int v = 0; v < NV; ++v)
-                    q[v] = c[v * NB];
-                const Primitive w = primitive(q);
-                const double a = eos_.sound_speed(w.rho, w.p);
-                const double vel[2] = {w.u, w.v};
-                double result[NV][NB] = {};
-                for (int dir = 0; dir < D; ++dir) {
-                    const Eigenvectors<NV> ev = eigenvectors(dir, w.rho, vel, a);
-                    double limited[NV][NB];
-                    for (int m = 0; m < NV; ++m) {
-                        // The candidates share their average (cand[k][v][0]): only the own one's is projected.
-                        double ch[NCAND][NB];
-                        for (int k = 0; k < NCAND; ++k)
-                            for (int l = k == 0 ? 0 : 1; l < NB; ++l) {
-                                double t[NV];
-                                for (int v = 0; v < NV; ++v)
-                                    t[v] = ev.L[m][v] * cand[k][v][l];
-                                ch[k][l] = variable_sum(t);
-                            }
-                        // β = cᵀ S c with S diagonal for this basis (WenoTables::smooth_diag, checked there).
-                        double wk[NCAND];
-                        for (int k = 0; k < NCAND; ++k) {
-                            double beta = 0;
-                            if constexpr (D == 1) {
-                                for (int l = 1; l < NB; ++l)
-                                    beta += ch[k][l] * weno_.smooth_diag[l] * ch[k][l];
-                            } else {
-                                double outer[NB] = {};
-                                for (int l = 1; l < NB; ++l)
-                                    outer[l] = ch[k][l] * (weno_.smooth_diag[l] * ch[k][l]);
-                                beta = B::mode_sum(outer);
-                            }
-                            const double lin = k == 0 ? g_c : g_nb;
-                            wk[k] = lin / ((eps + beta) * (eps + beta));
-                        }
-                        const double wsum = candidate_sum(wk);
-                        for (int l = 1; l < NB; ++l) {
-                            double t[NCAND];
-                            for (int k = 0; k < NCAND; ++k)
-                                t[k] = wk[k] * ch[k][l];
-                            limited[m][l] = candidate_sum(t) / wsum;
-                        }
-                    }
-                    for (int v = 0; v < NV; ++v)
-                        for (int l = 1; l < NB; ++l) { // the average is kept (below)
-                            double t[NV];
-                            for (int m = 0; m < NV; ++m)
-                                t[m] = ev.R[v][m] * limited[m][l];
-                            result[v][l] += wave_sum(t) / D;
-                        }
-                }
-                double* o = cell(out, i, j);
+        for (int i = lo_[j]; i < hi_[j]; ++i) {
+            if (!troubled_flag_[mesh_.index(i, j)]) continue;
+            const double* c = cell(U, i, j);
+            // Candidate polynomials: own, then neighbours −x, +x, −y, +y shifted to this cell's average.
+            constexpr int NCAND = 1 + 2 * D;
+            double cand[NCAND][NV][NB];
+            for (int v = 0; v < NV; ++v)
+                for (int l = 0; l < NB; ++l)
+                    cand[0][v][l] = c[v * NB + l];
+            for (int nb = 0; nb < 2 * D; ++nb) {
+                const int ni = i + (nb == 0 ? -1 : nb == 1 ? 1 : 0);
+                const int nj = j + (nb == 2 ? -1 : nb == 3 ? 1 : 0);
+                const double* n = cell(U, ni, nj);
                 for (int v = 0; v < NV; ++v) {
-                    o[v * NB] = c[v * NB]; // the average is kept exactly
-                    for (int l = 1; l < NB; ++l)
-                        o[v * NB + l] = result[v][l];
+                    cand[1 + nb][v][0] = c[v * NB]; // shifted to this cell's average
+                    for (int l = 1; l < NB; ++l) {
+                        double t[NB];
+                        for (int m = 0; m < NB; ++m)
+                            t[m] = weno_.shift[nb][l][m] * n[v * NB + m];
+                        cand[1 + nb][v][l] = B::mode_sum(t);
+                    }
                 }
-                // Keep the density of the limited polynomial within the range of this and the neighbouring
-                // cell averages, as a MUSCL reconstruction would: WENO alone does not rule out overshoots,
-                // and barotropic water turns a 1 % density overshoot into tens of MPa.
-                double lo = c[0], hi = c[0];
-                for (int nb = 0; nb < 2 * D; ++nb) {
-                    const int ni = i + (nb == 0 ? -1 : nb == 1 ? 1 : 0);
-                    const int nj = j + (nb == 2 ? -1 : nb == 3 ? 1 : 0);
-                    lo = std::min(lo, cell(U, ni, nj)[0]);
-                    hi = std::max(hi, cell(U, ni, nj)[0]);
-                }
-                double theta = 1.0;
-                for_each_point(o, [&](const double* qp) {
-                    if (qp[0] > hi) theta = std::min(theta, (hi - c[0]) / (qp[0] - c[0]));
-                    if (qp[0] < lo) theta = std::min(theta, (lo - c[0]) / (qp[0] - c[0]));
-                });
-                if (theta < 1.0)
-                    for (int v = 0; v < NV; ++v)
-                        for (int l = 1; l < NB; ++l)
-                            o[v * NB + l] *= theta;
             }
-#pragma omp parallel for schedule(static) if (D == 2)
-        for (int j = 0; j < ny; ++j)
-            for (int i = lo_[j]; i < hi_[j]; ++i)
-                if (troubled_flag_[mesh_.index(i, j)]) std::copy_n(cell(out, i, j), NC, cell(U, i, j));
+            double q[NV];
+            for (int v = 0; v < NV; ++v)
+                q[v] = c[v * NB];
+            const Primitive w = primitive(q);
+            const double a = eos_.sound_speed(w.rho, w.p);
+            const double vel[2] = {w.u, w.v};
+            double result[NV][NB] = {};
+            for (int dir = 0; dir < D; ++dir) {
+                const Eigenvectors<NV> ev = eigenvectors(dir, w.rho, vel, a);
+                double limited[NV][NB];
+                for (int m = 0; m < NV; ++m) {
+                    // The candidates share their average (cand[k][v][0]): only the own one's is projected.
+                    double ch[NCAND][NB];
+                    for (int k = 0; k < NCAND; ++k)
+                        for (int l = k == 0 ? 0 : 1; l < NB; ++l) {
+                            double t[NV];
+                            for (int v = 0; v < NV; ++v)
+                                t[v] = ev.L[m][v] * cand[k][v][l];
+                            ch[k][l] = variable_sum(t);
+                        }
+                    // β = cᵀ S c with S diagonal for this basis (WenoTables::smooth_diag, checked there).
+                    double wk[NCAND];
+                    for (int k = 0; k < NCAND; ++k) {
+                        double beta = 0;
+                        if constexpr (D == 1) {
+                            for (int l = 1; l < NB; ++l)
+                                beta += ch[k][l] * weno_.smooth_diag[l] * ch[k][l];
+                        } else {
+                            double outer[NB] = {};
+                            for (int l = 1; l < NB; ++l)
+                                outer[l] = ch[k][l] * (weno_.smooth_diag[l] * ch[k][l]);
+                            beta = B::mode_sum(outer);
+                        }
+                        const double lin = k == 0 ? g_c : g_nb;
+                        wk[k] = lin / ((eps + beta) * (eps + beta));
+                    }
+                    const double wsum = candidate_sum(wk);
+                    for (int l = 1; l < NB; ++l) {
+                        double t[NCAND];
+                        for (int k = 0; k < NCAND; ++k)
+                            t[k] = wk[k] * ch[k][l];
+                        limited[m][l] = candidate_sum(t) / wsum;
+                    }
+                }
+                for (int v = 0; v < NV; ++v)
+                    for (int l = 1; l < NB; ++l) { // the average is kept (below)
+                        double t[NV];
+                        for (int m = 0; m < NV; ++m)
+                            t[m] = ev.R[v][m] * limited[m][l];
+                        result[v][l] += wave_sum(t) / D;
+                    }
+            }
+            double* o = cell(out, i, j);
+            for (int v = 0; v < NV; ++v) {
+                o[v * NB] = c[v * NB]; // the average is kept exactly
+                for (int l = 1; l < NB; ++l)
+                    o[v * NB + l] = result[v][l];
+            }
+            // Keep the density of the limited polynomial within the range of this and the neighbouring
+            // cell averages, as a MUSCL reconstruction would: WENO alone does not rule out overshoots,
+            // and barotropic water turns a 1 % density overshoot into tens of MPa.
+            double lo = c[0], hi = c[0];
+            for (int nb = 0; nb < 2 * D; ++nb) {
+                const int ni = i + (nb == 0 ? -1 : nb == 1 ? 1 : 0);
+                const int nj = j + (nb == 2 ? -1 : nb == 3 ? 1 : 0);
+                lo = std::min(lo, cell(U, ni, nj)[0]);
+                hi = std::max(hi, cell(U, ni, nj)[0]);
+            }
+            double theta = 1.0;
+            for_each_point(o, [&](const double* qp) {
+                if (qp[0] > hi) theta = std::min(theta, (hi - c[0]) / (qp[0] - c[0]));
+                if (qp[0] < lo) theta = std::min(theta, (lo - c[0]) / (qp[0] - c[0]));
+            });
+            if (theta < 1.0)
+                for (int v = 0; v < NV; ++v)
+                    for (int l = 1; l < NB; ++l)
+                        o[v * NB + l] *= theta;
+        }
     }
 
     // Troubled cells become linear: in the characteristic variables of each direction the slope is the
     // minmod of the own slope and the differences of the neighbouring averages (Cockburn and Shu 1989);
     // the quadratic and mixed modes are dropped.
-    void minmod(double* U) {
-        const int ny = mesh_.ny;
-        double* out = rhs_.data();
-#pragma omp parallel for schedule(dynamic, 16) if (D == 2)
-        for (int j = 0; j < ny; ++j)
-            for (int i = lo_[j]; i < hi_[j]; ++i) {
-                if (!troubled_flag_[mesh_.index(i, j)]) continue;
-                const double* c = cell(U, i, j);
-                double q[NV];
-                for (int v = 0; v < NV; ++v)
-                    q[v] = c[v * NB];
-                const Primitive w = primitive(q);
-                const double a = eos_.sound_speed(w.rho, w.p);
-                const double vel[2] = {w.u, w.v};
-                double* o = cell(out, i, j);
-                std::fill(o, o + NC, 0.0);
-                for (int v = 0; v < NV; ++v)
-                    o[v * NB] = c[v * NB];
-                for (int dir = 0; dir < D; ++dir) {
-                    const int l = dir == 0 ? 1 : 2; // basis function ξ or η
-                    const double* lo = dir == 0 ? cell(U, i - 1, j) : cell(U, i, j - 1);
-                    const double* hi = dir == 0 ? cell(U, i + 1, j) : cell(U, i, j + 1);
-                    const Eigenvectors<NV> ev = eigenvectors(dir, w.rho, vel, a);
-                    double lim[NV];
-                    for (int m = 0; m < NV; ++m) {
-                        double s[NV], f[NV], b[NV];
-                        for (int v = 0; v < NV; ++v) {
-                            s[v] = ev.L[m][v] * c[v * NB + l];
-                            f[v] = ev.L[m][v] * (hi[v * NB] - c[v * NB]);
-                            b[v] = ev.L[m][v] * (c[v * NB] - lo[v * NB]);
-                        }
-                        lim[m] = minmod3(variable_sum(s), variable_sum(f), variable_sum(b));
-                    }
+    void minmod_row(const double* U, double* out, int j) const {
+        for (int i = lo_[j]; i < hi_[j]; ++i) {
+            if (!troubled_flag_[mesh_.index(i, j)]) continue;
+            const double* c = cell(U, i, j);
+            double q[NV];
+            for (int v = 0; v < NV; ++v)
+                q[v] = c[v * NB];
+            const Primitive w = primitive(q);
+            const double a = eos_.sound_speed(w.rho, w.p);
+            const double vel[2] = {w.u, w.v};
+            double* o = cell(out, i, j);
+            std::fill(o, o + NC, 0.0);
+            for (int v = 0; v < NV; ++v)
+                o[v * NB] = c[v * NB];
+            for (int dir = 0; dir < D; ++dir) {
+                const int l = dir == 0 ? 1 : 2; // basis function ξ or η
+                const double* lo = dir == 0 ? cell(U, i - 1, j) : cell(U, i, j - 1);
+                const double* hi = dir == 0 ? cell(U, i + 1, j) : cell(U, i, j + 1);
+                const Eigenvectors<NV> ev = eigenvectors(dir, w.rho, vel, a);
+                double lim[NV];
+                for (int m = 0; m < NV; ++m) {
+                    double s[NV], f[NV], b[NV];
                     for (int v = 0; v < NV; ++v) {
-                        double x[NV];
-                        for (int m = 0; m < NV; ++m)
-                            x[m] = ev.R[v][m] * lim[m];
-                        o[v * NB + l] = wave_sum(x);
+                        s[v] = ev.L[m][v] * c[v * NB + l];
+                        f[v] = ev.L[m][v] * (hi[v * NB] - c[v * NB]);
+                        b[v] = ev.L[m][v] * (c[v * NB] - lo[v * NB]);
                     }
+                    lim[m] = minmod3(variable_sum(s), variable_sum(f), variable_sum(b));
+                }
+                for (int v = 0; v < NV; ++v) {
+                    double x[NV];
+                    for (int m = 0; m < NV; ++m)
+                        x[m] = ev.R[v][m] * lim[m];
+                    o[v * NB + l] = wave_sum(x);
                 }
             }
-#pragma omp parallel for schedule(static) if (D == 2)
-        for (int j = 0; j < ny; ++j)
-            for (int i = lo_[j]; i < hi_[j]; ++i)
-                if (troubled_flag_[mesh_.index(i, j)]) std::copy_n(cell(out, i, j), NC, cell(U, i, j));
+        }
     }
 
     // Sums of the WENO limiter in an order that mirror images round alike (see Basis::mode_sum). Over the
@@ -1273,115 +1276,115 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     }
 
     // Zhang–Shu scaling towards the cell average so that ρ > 0 and p + P∞ > 0 at every quadrature point;
-    // a cell whose average is itself inadmissible (or NaN) is a failure.
-    void positivity(double* U, double t, const char* stage) {
-        const int nx = mesh_.nx, ny = mesh_.ny;
-        int bad_i = -1, bad_j = -1;
-        std::string bad_what;
+    // a cell whose average is itself inadmissible (or NaN) is a failure, kept in bad if it is the first in
+    // the mesh's order (limit() reports it). Row j; returns the number of cells scaled.
+    struct BadCell {
+        int i = -1, j = -1;
+        std::string what;
+    };
+    long positivity_row(double* U, int j, const char* stage, BadCell& bad) const {
+        const int nx = mesh_.nx;
         const bool scale = set_.positivity && K > 0;
         const double eps = set_.positivity_epsilon;
         const double margin = velocity_margin();
         long count = 0;
-#pragma omp parallel for reduction(+ : count) schedule(dynamic, 8) if (D == 2)
-        for (int j = 0; j < ny; ++j)
-            for (int i = lo_[j]; i < hi_[j]; ++i) {
-                if (!active(i, j)) continue;
-                double* c = cell(U, i, j);
-                double avg[NV];
-                bool finite = true;
-                for (int v = 0; v < NV; ++v) {
-                    avg[v] = c[v * NB];
-                    for (int l = 0; l < NB; ++l)
-                        finite = finite && std::isfinite(c[v * NB + l]);
-                }
-                std::string what;
-                double p_avg = 0;
-                if (!finite)
-                    what = "non-finite value (NaN or Inf)";
-                else if (!(avg[0] > 0))
-                    what = "non-positive density " + std::to_string(avg[0]) + " kg/m^3";
-                else {
-                    p_avg = pressure(avg);
-                    if (!(eos_.pressure_margin(p_avg) > 0) || !std::isfinite(p_avg))
-                        what = "pressure " + std::to_string(p_avg) + " Pa at or below -P_inf";
-                }
-                if (!what.empty()) {
-#pragma omp critical
-                    if (bad_i < 0 || j * nx + i < bad_j * nx + bad_i) {
-                        bad_i = i, bad_j = j;
-                        bad_what = what + " after limiting (" + stage + ")";
-                    }
-                    continue;
-                }
-                if (!scale) continue;
-                const double rho_floor = eps * avg[0];
-                if (clear_of_floors(c, avg, rho_floor, p_avg, margin)) continue;
-                // One pass finds the smallest density and pressure margin over the points; most cells need
-                // nothing more.
-                double Q[NV][NP];
-                at_points(c, points_, Q);
-                double rho_min = avg[0], m_min = 1e300;
-                for (int k = 0; k < NP; ++k)
-                    rho_min = std::min(rho_min, Q[0][k]);
-                if constexpr (!Eos::barotropic)
-                    if (rho_min > 0)
-                        for (int k = 0; k < NP; ++k) {
-                            m_min = std::min(
-                                m_min, eos_.pressure_margin(euler::pressure<D>(eos_, euler::AtPoint{Q, k})));
-                        }
-                const double V = Eos::barotropic ? velocity_bound(avg, margin) : 0.0;
-                bool slow = false; // barotropic: a point whose velocity exceeds V
-                if constexpr (Eos::barotropic)
-                    for (int k = 0; k < NP; ++k)
-                        for (int d = 0; d < D; ++d)
-                            slow = slow || !(std::abs(Q[1 + d][k]) <= V * Q[0][k]);
-                if (rho_min >= rho_floor &&
-                    (Eos::barotropic ? !slow : m_min >= eps * eos_.pressure_margin(p_avg)))
-                    continue;
-                ++count;
-                if (rho_min < rho_floor) {
-                    const double theta = (avg[0] - rho_floor) / (avg[0] - rho_min);
-                    for (int l = 1; l < NB; ++l)
-                        c[l] *= theta;
-                }
-                // Velocity (barotropic only: its energy does not bound the kinetic energy, so a point whose
-                // density sits at the floor can carry any momentum; (542, 1347) of the paper-resolution
-                // application had ρ = 4.5e-8 and ρu = −4 055 at a face point, u ≈ −9e10 m/s, and HLLC gave
-                // NaN). The slopes are scaled towards the average onto the convex set |ρu|, |ρv| ≤ V ρ, whose
-                // constraints are linear in the scaling and hold at the average: θ = g(0)/(g(0) − g(1)) for
-                // each violated g = V ρ ∓ ρu_d.
-                if constexpr (Eos::barotropic) {
-                    double theta = 1.0;
-                    for_each_point(c, [&](const double* q) {
-                        for (int d = 0; d < D; ++d)
-                            for (const double sign : {1.0, -1.0}) {
-                                const double g0 = V * avg[0] - sign * avg[1 + d];
-                                const double g1 = V * q[0] - sign * q[1 + d];
-                                if (g1 < 0) theta = std::min(theta, g0 / (g0 - g1));
-                            }
-                    });
-                    if (theta < 1.0)
-                        for (int v = 0; v < NV; ++v)
-                            for (int l = 1; l < NB; ++l)
-                                c[v * NB + l] *= theta;
-                }
-                // Pressure (stiffened gas only: p + P∞ is concave in U, so the linear estimate is safe).
-                if constexpr (!Eos::barotropic) {
-                    const double m_avg = eos_.pressure_margin(p_avg);
-                    const double m_floor = eps * m_avg;
-                    double theta = 1.0;
-                    for_each_point(c, [&](const double* q) {
-                        const double m = eos_.pressure_margin(pressure(q));
-                        if (m < m_floor) theta = std::min(theta, (m_avg - m_floor) / (m_avg - m));
-                    });
-                    if (theta < 1.0)
-                        for (int v = 0; v < NV; ++v)
-                            for (int l = 1; l < NB; ++l)
-                                c[v * NB + l] *= theta;
-                }
+        for (int i = lo_[j]; i < hi_[j]; ++i) {
+            if (!active(i, j)) continue;
+            double* c = cell(U, i, j);
+            double avg[NV];
+            bool finite = true;
+            for (int v = 0; v < NV; ++v) {
+                avg[v] = c[v * NB];
+                for (int l = 0; l < NB; ++l)
+                    finite = finite && std::isfinite(c[v * NB + l]);
             }
-        scaled_ += count;
-        if (bad_i >= 0) fail_cell(bad_i, bad_j, bad_what, t);
+            std::string what;
+            double p_avg = 0;
+            if (!finite)
+                what = "non-finite value (NaN or Inf)";
+            else if (!(avg[0] > 0))
+                what = "non-positive density " + std::to_string(avg[0]) + " kg/m^3";
+            else {
+                p_avg = pressure(avg);
+                if (!(eos_.pressure_margin(p_avg) > 0) || !std::isfinite(p_avg))
+                    what = "pressure " + std::to_string(p_avg) + " Pa at or below -P_inf";
+            }
+            if (!what.empty()) {
+#pragma omp critical(undex_bad_cell)
+                if (bad.i < 0 || j * nx + i < bad.j * nx + bad.i) {
+                    bad.i = i, bad.j = j;
+                    bad.what = what + " after limiting (" + stage + ")";
+                }
+                continue;
+            }
+            if (!scale) continue;
+            const double rho_floor = eps * avg[0];
+            if (clear_of_floors(c, avg, rho_floor, p_avg, margin)) continue;
+            // One pass finds the smallest density and pressure margin over the points; most cells need
+            // nothing more.
+            double Q[NV][NP];
+            at_points(c, points_, Q);
+            double rho_min = avg[0], m_min = 1e300;
+            for (int k = 0; k < NP; ++k)
+                rho_min = std::min(rho_min, Q[0][k]);
+            if constexpr (!Eos::barotropic)
+                if (rho_min > 0)
+                    for (int k = 0; k < NP; ++k) {
+                        m_min = std::min(
+                            m_min, eos_.pressure_margin(euler::pressure<D>(eos_, euler::AtPoint{Q, k})));
+                    }
+            const double V = Eos::barotropic ? velocity_bound(avg, margin) : 0.0;
+            bool slow = false; // barotropic: a point whose velocity exceeds V
+            if constexpr (Eos::barotropic)
+                for (int k = 0; k < NP; ++k)
+                    for (int d = 0; d < D; ++d)
+                        slow = slow || !(std::abs(Q[1 + d][k]) <= V * Q[0][k]);
+            if (rho_min >= rho_floor &&
+                (Eos::barotropic ? !slow : m_min >= eps * eos_.pressure_margin(p_avg)))
+                continue;
+            ++count;
+            if (rho_min < rho_floor) {
+                const double theta = (avg[0] - rho_floor) / (avg[0] - rho_min);
+                for (int l = 1; l < NB; ++l)
+                    c[l] *= theta;
+            }
+            // Velocity (barotropic only: its energy does not bound the kinetic energy, so a point whose
+            // density sits at the floor can carry any momentum; (542, 1347) of the paper-resolution
+            // application had ρ = 4.5e-8 and ρu = −4 055 at a face point, u ≈ −9e10 m/s, and HLLC gave
+            // NaN). The slopes are scaled towards the average onto the convex set |ρu|, |ρv| ≤ V ρ, whose
+            // constraints are linear in the scaling and hold at the average: θ = g(0)/(g(0) − g(1)) for
+            // each violated g = V ρ ∓ ρu_d.
+            if constexpr (Eos::barotropic) {
+                double theta = 1.0;
+                for_each_point(c, [&](const double* q) {
+                    for (int d = 0; d < D; ++d)
+                        for (const double sign : {1.0, -1.0}) {
+                            const double g0 = V * avg[0] - sign * avg[1 + d];
+                            const double g1 = V * q[0] - sign * q[1 + d];
+                            if (g1 < 0) theta = std::min(theta, g0 / (g0 - g1));
+                        }
+                });
+                if (theta < 1.0)
+                    for (int v = 0; v < NV; ++v)
+                        for (int l = 1; l < NB; ++l)
+                            c[v * NB + l] *= theta;
+            }
+            // Pressure (stiffened gas only: p + P∞ is concave in U, so the linear estimate is safe).
+            if constexpr (!Eos::barotropic) {
+                const double m_avg = eos_.pressure_margin(p_avg);
+                const double m_floor = eps * m_avg;
+                double theta = 1.0;
+                for_each_point(c, [&](const double* q) {
+                    const double m = eos_.pressure_margin(pressure(q));
+                    if (m < m_floor) theta = std::min(theta, (m_avg - m_floor) / (m_avg - m));
+                });
+                if (theta < 1.0)
+                    for (int v = 0; v < NV; ++v)
+                        for (int l = 1; l < NB; ++l)
+                            c[v * NB + l] *= theta;
+            }
+        }
+        return count;
     }
 
     // The largest velocity component a point of a barotropic cell may carry: the average's largest component
