@@ -626,7 +626,7 @@ TEST(Weno, LimitedPolynomialMatchesTheWeightsFormula) {
 }
 
 // The TVB indicator's scale-free threshold |ũ| ≤ M (Δx/L)² |ū| (fluid/indicator_tvb.hpp,
-// Scheme::mark_troubled), with L the domain length (here 4, on [−1, 3]): one cell holds ρ̄ + c (ξ² − 1/3)
+// Scheme::mark_row), with L the domain length (here 4, on [−1, 3]): one cell holds ρ̄ + c (ξ² − 1/3)
 // in a uniform state, so the deviation of its face values is (2/3) c and minmod (the neighbour differences
 // vanish) flags it exactly when (2/3) c exceeds the threshold. At 0.8× and 1.25× the formula's threshold,
 // on two meshes 4× apart, it must be left and flagged respectively; a threshold scaling with Δx/L, Δx² or
@@ -678,7 +678,7 @@ TEST(Indicator, TvbThresholdUsesTheLengthOfItsDirection) {
     }
 }
 
-// Barotropic positivity bounds the velocity at the points (Scheme::positivity). Tait water, degree 1, no
+// Barotropic positivity bounds the velocity at the points (Scheme::positivity_row). Tait water, degree 1, no
 // limiter: cell 1 holds ρ = ρ̄ (1 + ξ) (its left trace is 0, below the density floor) under a uniform
 // momentum ρ̄ u with u = 10 m/s. The density scaling alone puts the left trace at the floor, 1e-10 ρ̄, where
 // that momentum is a velocity of 1e11 m/s (what made HLLC return NaN in the paper-resolution application);

@@ -1,8 +1,8 @@
-// The Zhang–Shu positivity scaling (fluid/scheme.hpp, Scheme::positivity) on problems that need it: Toro's
-// 123 problem (two rarefactions leaving a near-vacuum, ρ = 0.022 and p = 0.0019 at x = 0.5 by t = 0.15) and
-// the same with u = ∓6, where a vacuum opens (u_R − u_L = 12 exceeds 2(a_L + a_R)/(γ − 1) = 7.48); ideal
-// gas γ = 1.4, degree 2 with the default limiting (TVB indicator, minmod). The 123 problem exercises the
-// pressure part of the scaling, the vacuum the density part as well.
+// The Zhang–Shu positivity scaling (fluid/scheme.hpp, Scheme::positivity_row) on problems that need it:
+// Toro's 123 problem (two rarefactions leaving a near-vacuum, ρ = 0.022 and p = 0.0019 at x = 0.5 by
+// t = 0.15) and the same with u = ∓6, where a vacuum opens (u_R − u_L = 12 exceeds 2(a_L + a_R)/(γ − 1) =
+// 7.48); ideal gas γ = 1.4, degree 2 with the default limiting (TVB indicator, minmod). The 123 problem
+// exercises the pressure part of the scaling, the vacuum the density part as well.
 #include "tests/support/exact_riemann.hpp"
 #include "tests/support/run_case.hpp"
 
