@@ -70,7 +70,7 @@ void step_to_end(Run& run, const RunPlan& plan, const std::string& name, std::os
     auto last_progress = start, last_checkpoint = start;
     for (;;) {
         if (run.owns_clock() && clock.done(run.time())) break;
-        if (stop_requested()) throw RunFailure(exit_stopped, stop_reason());
+        if (run.stopping()) throw RunFailure(exit_stopped, stop_reason());
         if (run.owns_clock() && run.steps() >= plan.max_steps) // a partner's clock is the partner's to stop
             throw RunFailure(exit_method_failed,
                              "stopped: numerics.max_steps = " + std::to_string(plan.max_steps) +

@@ -21,6 +21,7 @@
 #pragma once
 #include "base/exit_status.hpp"
 #include "base/run_plan.hpp"
+#include "base/signals.hpp"
 
 #include <iosfwd>
 #include <optional>
@@ -77,6 +78,8 @@ class Run {
     virtual ~Run() = default;
     virtual double time() const = 0;
     virtual long steps() const = 0;
+    // Whether a stop was asked for (base/signals.hpp); a side of many processes answers what they agreed.
+    virtual bool stopping() const { return stop_requested(); }
     // Whether this side stops at end_time itself (false: its partner's Stop ends the run).
     virtual bool owns_clock() const { return true; }
     // The next step (3. above); nothing when the partner ended the run. Throws RunFailure. checkpoint_due:

@@ -14,8 +14,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdlib>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace undex {
@@ -147,9 +149,13 @@ int dispatch(const SolverCommands& c, Request& r) {
     install_stop_handler();
     const auto cf = CaseFile::load(r.case_path, r.overrides());
     validate_plan(cf); // the output directory is usable before it is locked (base/run_lock.hpp)
-    const RunLock lock(plan(cf).directory, r.command, r.force);
-    if (!lock.taken_over().empty())
-        std::cerr << c.name << ": --force: took over the stale lock of " << lock.taken_over() << "\n";
+    // Of a solver started as many MPI ranks (mpirun sets OMPI_COMM_WORLD_RANK), the first one locks the
+    // directory and writes the output for all.
+    const char* rank = std::getenv("OMPI_COMM_WORLD_RANK");
+    std::optional<RunLock> lock;
+    if (!rank || std::string(rank) == "0") lock.emplace(plan(cf).directory, r.command, r.force);
+    if (lock && !lock->taken_over().empty())
+        std::cerr << c.name << ": --force: took over the stale lock of " << lock->taken_over() << "\n";
     if (!r.resume.empty()) check_resume(r.resume, cf);
     try {
         return c.run(cf, r.couple, r.resume);

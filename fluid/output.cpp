@@ -158,11 +158,15 @@ void Output::write_fields(const FluidSolver& solver, bool last_good) {
 }
 
 void Output::record_gauges(const FluidSolver& solver) {
-    for (size_t k = 0; k < gauges_.size(); ++k) {
-        const Primitive w = solver.evaluate(gauges_[k].x, gauges_[k].y);
-        auto& s = series_[k];
-        s.insert(s.end(), {solver.time(), w.rho, w.u, w.v, w.p});
-    }
+    std::vector<Primitive> w(gauges_.size());
+    for (size_t k = 0; k < gauges_.size(); ++k)
+        w[k] = solver.evaluate(gauges_[k].x, gauges_[k].y);
+    record_gauges(solver.time(), w);
+}
+
+void Output::record_gauges(double t, const std::vector<Primitive>& w) {
+    for (size_t k = 0; k < gauges_.size(); ++k)
+        series_[k].insert(series_[k].end(), {t, w[k].rho, w[k].u, w[k].v, w[k].p});
 }
 
 void Output::write_gauges() {

@@ -53,6 +53,8 @@ class Output {
     // averaged over blocks of stride × stride cells (the last block of a row or column may be smaller).
     void write_frame(const FluidSolver& solver, int stride);
     void record_gauges(const FluidSolver& solver);
+    // The same with the gauges' states at time t given (many ranks: evaluated by the rank that holds each).
+    void record_gauges(double t, const std::vector<Primitive>& w);
     void write_gauges();
     // Status "complete", the file closed.
     void complete();

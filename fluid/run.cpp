@@ -7,12 +7,14 @@
 #include "base/signals.hpp"
 #include "coupler/participant.hpp"
 #include "fluid/output.hpp"
+#include "fluid/ranks.hpp"
 #include "fluid/setup.hpp"
 #include "fluid/wet_faces.hpp"
 #include "proto/case.pb.h"
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <ostream>
 #include <sstream>
@@ -110,9 +112,12 @@ class FluidRun : public Run {
   public:
     // A new run (resume: nothing), or one continued from a checkpoint (its solver, attached to the same wet
     // nodes, restored here).
+    // ranks: many ranks (fluid/ranks.hpp), the solver divided by them; null for one. The root writes the
+    // output.
     FluidRun(const CaseFile& c, const RunPlan& p, std::unique_ptr<FluidSolver> solver,
-             std::unique_ptr<StructureLink> link, State* resume)
-        : solver_(std::move(solver)), link_(std::move(link)), case_text_(c.text()), directory_(p.directory) {
+             std::unique_ptr<StructureLink> link, State* resume, Ranks* ranks, std::ostream& log)
+        : solver_(std::move(solver)), link_(std::move(link)), case_text_(c.text()), directory_(p.directory),
+          ranks_(ranks), log_(log), gauges_(p.gauges) {
         const auto& o = c.get().output();
         const Mesh& m = solver_->mesh();
         frame_interval_ = m.dim == 2 ? o.frame_interval() : 0.0;
@@ -129,11 +134,15 @@ class FluidRun : public Run {
             write_history(); // the tables as they were at the checkpoint
             return;
         }
-        out_ = std::make_unique<Output>(p.directory, c.text(), *solver_, p.gauges);
-        remove_checkpoints(p.directory, "fluid"); // of an older run in the directory
+        if (ranks_) agree({}); // the first step and the gauges at the start
+        if (root()) {
+            out_ = std::make_unique<Output>(p.directory, c.text(), *solver_, p.gauges);
+            remove_checkpoints(p.directory, "fluid"); // of an older run in the directory
+        }
         record();
-        out_->write_fields(*solver_);
+        if (root()) out_->write_fields(*solver_);
     }
+    bool stopping() const override { return ranks_ ? stop_ : stop_requested(); }
 
     double time() const override { return solver_->time(); }
     long steps() const override { return solver_->steps(); }
@@ -151,7 +160,7 @@ class FluidRun : public Run {
                 throw RunFailure(exit_method_failed, f.what());
             }
         }
-        double dt = dt_f_ = solver_->stable_dt();
+        double dt = dt_f_ = ranks_ ? next_dt_ : solver_->stable_dt();
         if (link_) dt = std::min(dt, offer_.dt);
         Step s = clock.clip(time(), dt);
         s.checkpoint = checkpoint_due;
@@ -167,11 +176,14 @@ class FluidRun : public Run {
     }
 
     void advance(const Step& s) override {
+        std::optional<std::string> failure;
         try {
             solver_->step(s.dt);
         } catch (const SolverFailure& f) {
-            throw RunFailure(exit_method_failed, f.what());
+            if (!ranks_) throw RunFailure(exit_method_failed, f.what());
+            failure = f.what();
         }
+        if (ranks_) agree(failure);
         at_step_end_ = true;
     }
     bool at_step_end() const override { return at_step_end_; }
@@ -194,9 +206,11 @@ class FluidRun : public Run {
         }
     }
     void record() override {
-        out_->record_gauges(*solver_);
+        if (ranks_ && root()) out_->record_gauges(solver_->time(), gauge_values_);
+        if (!ranks_) out_->record_gauges(*solver_);
         if (frame_interval_ > 0 && solver_->time() >= next_frame_ * (1 - 1e-12)) {
-            out_->write_frame(*solver_, frame_stride_);
+            solver_->share();
+            if (root()) out_->write_frame(*solver_, frame_stride_);
             next_frame_ = frame_interval_ * (std::floor(solver_->time() / frame_interval_ * (1 + 1e-12)) + 1);
         }
     }
@@ -208,6 +222,8 @@ class FluidRun : public Run {
             (*link_)->heartbeat();
             keep_waiting.emplace([this] { (*link_)->heartbeat(); }, 1.0);
         }
+        solver_->share();
+        if (!root()) return rebalance();
         out_->write_fields(*solver_);
         if (link_ && link_->wet() && !last_answer_.p_I.empty()) {
             const WetFaces& f = link_->wet()->faces();
@@ -218,11 +234,13 @@ class FluidRun : public Run {
                                   last_answer_.p_I[k], last_answer_.u_I[k], f.area(k)});
         }
         write_history();
+        rebalance();
     }
     void finish() override {
         if (link_) (*link_)->finalize("end time reached");
     }
     void complete() override {
+        if (!root()) return;
         out_->write_gauges();
         write_history();
         out_->complete();
@@ -230,19 +248,24 @@ class FluidRun : public Run {
     }
     void fail(const std::string& why) override {
         if (link_) (*link_)->fail(why); // best effort: the peer learns the cause
+        solver_->share();
+        if (!root()) return;
         out_->fail(why, [&] {
             out_->write_fields(*solver_, true);
             write_history();
             out_->write_gauges();
         });
     }
-    std::string output_path() const override { return out_->path(); }
+    std::string output_path() const override { return directory_ + "/fluid.h5"; }
     std::string summary(double wall) const override {
         std::string out;
-        if (solver_->cell_updates_skipped() > 0)
-            out += format("; %.1f %% of %.4g cell updates skipped (still water)",
-                          100.0 * solver_->cell_updates_skipped() / solver_->cell_updates(),
-                          double(solver_->cell_updates()));
+        const long updates = ranks_ ? ranks_->sum(solver_->cell_updates()) : solver_->cell_updates();
+        const long skipped =
+            ranks_ ? ranks_->sum(solver_->cell_updates_skipped()) : solver_->cell_updates_skipped();
+        if (skipped > 0)
+            out += format("; %.1f %% of %.4g cell updates skipped (still water)", 100.0 * skipped / updates,
+                          double(updates));
+        if (ranks_) out += format("; %g ranks, rows divided %g time(s)", ranks_->size(), divisions_);
         if (!link_) return out.empty() ? out : " (" + out.substr(2) + ")";
         out = format("coupling %.3f s, %.1f %%", coupling_wall_, 100 * coupling_wall_ / wall) + out;
         if (link_->wet()) out += format("; wet faces %.3f s, %.1f %%", faces_wall_, 100 * faces_wall_ / wall);
@@ -256,7 +279,60 @@ class FluidRun : public Run {
     std::unique_ptr<FluidSolver> solver_;
     std::unique_ptr<StructureLink> link_;
     std::string case_text_, directory_;
-    std::unique_ptr<Output> out_;
+    std::unique_ptr<Output> out_; // on the root only
+    Ranks* ranks_;                // many ranks, else null
+    std::ostream& log_;
+    std::vector<GaugePoint> gauges_;
+    // Many ranks: what the ranks agreed at the end of the last step (agree).
+    double next_dt_ = 0;
+    bool stop_ = false;
+    std::vector<Primitive> gauge_values_;
+    int divisions_ = 1;
+    bool root() const { return !ranks_ || ranks_->root(); }
+    // Many ranks, at the end of every step (and before the first): one MPI_Allreduce (max) agrees on the next
+    // Δt (−Δt_f), on whether a rank failed in the step (its number + 1) or was asked to stop, and carries
+    // the gauges' states from the ranks that hold them (the others give −∞). A failure is every rank's:
+    // the others take their step back, and all end with the failed rank's message.
+    void agree(const std::optional<std::string>& failure) {
+        const double none = -std::numeric_limits<double>::infinity();
+        const Mesh& m = solver_->mesh();
+        std::vector<double> v = {-solver_->stable_dt(), failure ? ranks_->rank() + 1.0 : 0.0,
+                                 stop_requested() ? 1.0 : 0.0};
+        for (const GaugePoint& g : gauges_) {
+            const int j = std::clamp(static_cast<int>(std::floor((g.y - m.y_min) / m.dy)), 0, m.ny - 1);
+            const bool mine = j >= ranks_->begin() && j < ranks_->end();
+            const Primitive w = mine ? solver_->evaluate(g.x, g.y) : Primitive{};
+            for (double x : {w.rho, w.u, w.v, w.p})
+                v.push_back(mine ? x : none);
+        }
+        ranks_->max(v);
+        next_dt_ = -v[0];
+        stop_ = v[2] > 0;
+        gauge_values_.resize(gauges_.size());
+        for (size_t k = 0; k < gauges_.size(); ++k)
+            gauge_values_[k] = {v[3 + 4 * k], v[4 + 4 * k], v[5 + 4 * k], v[6 + 4 * k]};
+        if (v[1] == 0) return;
+        const int from = static_cast<int>(v[1]) - 1;
+        const std::string why = ranks_->broadcast(failure.value_or(""), from);
+        if (!failure) solver_->revert_step();
+        throw RunFailure(exit_method_failed, "fluid rank " + std::to_string(from) + ": " + why);
+    }
+    // Many ranks, after an output (the whole state shared): the rows divided again by the cells each updates
+    // when the busiest rank has more than `threshold` times the mean.
+    static constexpr double threshold = 1.1;
+    void rebalance() {
+        if (!ranks_) return;
+        std::vector<double> cost = solver_->row_cost();
+        ranks_->max(cost);
+        const double before = ranks_->imbalance(cost);
+        if (before <= threshold) return;
+        ranks_->divide(cost, solver_->halo());
+        solver_->divide(ranks_);
+        ++divisions_;
+        log_ << "undex-fluid: rows divided again at t = " << format("%.6g", solver_->time())
+             << format(" s: busiest rank %.3f of the mean, now %.3f", before, ranks_->imbalance(cost))
+             << std::endl;
+    }
     bool at_step_end_ = true; // false from the structure's offer (the wet faces moved) to the step's end
     // The solver and the run's own records (the output's are Output::state).
     void state(State& s) {
@@ -370,11 +446,41 @@ class FluidRun : public Run {
     }
 };
 
+// Many ranks: what cannot run on them yet is refused before anything is written; the rows divided by the
+// cells each updates in the initial data (RunPlan::checkpoint_seconds: none are written on many ranks).
+void divide(const CaseFile& c, RunPlan& p, Ranks& ranks, FluidSolver& solver, bool coupled,
+            const std::string& resume, std::ostream& log) {
+    const std::string n = std::to_string(ranks.size()) + " ranks";
+    if (!solver.divisible())
+        c.fail("numerics.ranks", "the fluid runs on " + n + " only as one fluid in 2D so far; run it on one");
+    if (coupled) c.fail("numerics.ranks", "a fluid coupled to a structure runs on one rank so far");
+    if (!resume.empty()) c.fail("numerics.ranks", "a run on " + n + " cannot be resumed from a checkpoint yet");
+    for (const auto* b : {&c.get().boundaries().y_min(), &c.get().boundaries().y_max()})
+        if (b->type() == config::Boundary::PERIODIC)
+            c.fail("boundaries", "periodic y boundaries are not divided among ranks yet: run on one");
+    try {
+        ranks.divide(solver.row_cost(), solver.halo());
+    } catch (const std::invalid_argument& e) {
+        c.fail("numerics.ranks", e.what());
+    }
+    solver.divide(&ranks);
+    if (p.checkpoint_seconds > 0)
+        log << "undex-fluid: no checkpoints on " << n << " (output.checkpoint_seconds ignored)" << std::endl;
+    p.checkpoint_seconds = 0;
+    std::string rows;
+    for (int r = 0; r < ranks.size(); ++r)
+        rows += (r ? ", " : "") + std::to_string(ranks.end(r) - ranks.begin(r));
+    log << "undex-fluid: " << n << ", rows per rank " << rows << std::endl;
+}
+
 } // namespace
 
-int run(const CaseFile& c, std::ostream& log, const std::string& couple, const std::string& resume) {
+int run(const CaseFile& c, std::ostream& root_log, const std::string& couple, const std::string& resume) {
     validate(c); // first: the plan's output times are counted there before they are made
-    const RunPlan p = plan(c);
+    RunPlan p = plan(c);
+    Ranks& ranks = Ranks::world();
+    std::ostream quiet(nullptr); // the ranks but the root say nothing: the root speaks for all
+    std::ostream& log = ranks.root() ? root_log : quiet;
     const bool coupled = coupled_case(c);
     const bool two_d =
         c.get().geometry() == config::PLANAR_2D || c.get().geometry() == config::AXISYMMETRIC_2D;
@@ -393,10 +499,13 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple, const s
 #endif
     auto solver = make_solver(c); // may throw SolverFailure for inadmissible initial data
     const Mesh& m = solver->mesh();
+    if (ranks.many()) divide(c, p, ranks, *solver, coupled, resume, log);
     log << "undex-fluid: " << c.path() << ": " << m.dim << "D, " << m.nx;
     if (m.dim == 2) log << " x " << m.ny;
-    log << " cells, degree " << solver->degree() << ", " << threads << " thread(s), end time " << p.end_time
-        << " s, output " << p.directory << "/fluid.h5" << std::endl;
+    log << " cells, degree " << solver->degree() << ", ";
+    if (ranks.many()) log << ranks.size() << " ranks × ";
+    log << threads << " thread(s), end time " << p.end_time << " s, output " << p.directory << "/fluid.h5"
+        << std::endl;
     std::optional<State> from;
     coupling::Start start;
     if (!resume.empty()) {
@@ -406,8 +515,12 @@ int run(const CaseFile& c, std::ostream& log, const std::string& couple, const s
             << ", t = " << format("%.9g", start.time) << " s)" << std::endl;
     }
     auto link = coupled ? std::make_unique<StructureLink>(p, couple, *solver, log, start) : nullptr;
-    FluidRun r(c, p, std::move(solver), std::move(link), from ? &*from : nullptr);
-    return drive(r, p, "undex-fluid", log);
+    FluidRun r(c, p, std::move(solver), std::move(link), from ? &*from : nullptr, ranks.many() ? &ranks : nullptr,
+               log);
+    const int status = drive(r, p, "undex-fluid", log);
+    // The root's status is the run's: mpirun ends every rank as soon as one exits with another than 0, and
+    // the root may still be writing the last good state.
+    return ranks.root() ? status : 0;
 }
 
 } // namespace undex::fluid

@@ -13,10 +13,12 @@
 #include "fluid/flux_hllc.hpp"
 #include "fluid/indicator_tvb.hpp"
 #include "fluid/limiter_weno.hpp"
+#include "fluid/ranks.hpp"
 #include "fluid/solver.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -149,24 +151,41 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         copy_region(u0_, u_, &stage_);
         troubled_ = 0;
         scaled_ = 0;
-        try {
-            // Stage 1: U1 = U + dt L(U)
-            stage_update(u_, time_, {stage_, 1.0, u0_, 0.0, dt});
-            limit(stage_, time_ + dt, "stage 1");
-            // Stage 2: U2 = 3/4 U + 1/4 (U1 + dt L(U1))
-            stage_update(stage_, time_ + dt, {u_, 0.75, u0_, 0.25, 0.25 * dt});
-            limit(u_, time_ + 0.5 * dt, "stage 2");
-            // Stage 3: U = 1/3 U + 2/3 (U2 + dt L(U2))
-            stage_update(u_, time_ + 0.5 * dt, {stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, 2.0 / 3.0 * dt});
-            limit(stage_, time_ + dt, "stage 3");
-        } catch (const SolverFailure& f) {
+        // On many ranks (divide) each stage's result is exchanged with the neighbours' blocks before the
+        // limiter and the next stage read it; a rank that meets a state it cannot hold does no more work in
+        // the step but still takes part in every exchange, so that its neighbours finish the step too.
+        std::optional<SolverFailure> failure;
+        auto work = [&](auto&& f) {
+            if (failure) return;
+            try {
+                f();
+            } catch (const SolverFailure& e) {
+                failure = e;
+            }
+        };
+        // Stage 1: U1 = U + dt L(U)
+        work([&] { stage_update(u_, time_, {stage_, 1.0, u0_, 0.0, dt}); });
+        exchange(stage_, 1);
+        work([&] { limit(stage_, time_ + dt, "stage 1"); });
+        exchange(stage_, 1);
+        // Stage 2: U2 = 3/4 U + 1/4 (U1 + dt L(U1))
+        work([&] { stage_update(stage_, time_ + dt, {u_, 0.75, u0_, 0.25, 0.25 * dt}); });
+        exchange(u_, 1);
+        work([&] { limit(u_, time_ + 0.5 * dt, "stage 2"); });
+        exchange(u_, 1);
+        // Stage 3: U = 1/3 U + 2/3 (U2 + dt L(U2))
+        work([&] { stage_update(u_, time_ + 0.5 * dt, {stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, 2.0 / 3.0 * dt}); });
+        exchange(stage_, 1);
+        work([&] { limit(stage_, time_ + dt, "stage 3"); });
+        if (failure) {
             copy_region(u_, u0_);
             std::ostringstream s;
-            s << f.what() << " in step " << steps_ + 1 << " from t = " << time_ << " s with dt = " << dt
+            s << failure->what() << " in step " << steps_ + 1 << " from t = " << time_ << " s with dt = " << dt
               << " s";
             throw SolverFailure(s.str());
         }
         copy_region(u_, stage_);
+        exchange(u_, halo()); // the next step's start, as far as its still-water test reads (wake)
         time_ += dt;
         ++steps_;
         last_dt_ = dt;
@@ -178,8 +197,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         wake();
     }
 
-    // Takes back the last step (used when the other fluid of a two-fluid step fails).
-    void revert_step() {
+    // Takes back the last step (used when the other fluid of a two-fluid step fails, or another rank's).
+    void revert_step() override {
         copy_region(u_, u0_);
         time_ -= last_dt_;
         --steps_;
@@ -205,7 +224,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 #pragma omp parallel for schedule(static) if (D == 2)
         for (int j = j0; j <= j1; ++j) {
             int lo = nx, hi = 0, solved = 0, asleep = 0;
-            for (int i = 0; i < nx; ++i) {
+            for (int i = 0; i < nx && j >= row_begin() && j < row_end(); ++i) {
                 const long k = mesh_.index(i, j);
                 if (active_ && !(*active_)[k]) continue;
                 if (skip_ && !awake_[k]) {
@@ -221,6 +240,32 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         solved_ = asleep_ = 0;
         for (int j = 0; j < ny; ++j)
             solved_ += row_solved_[j], asleep_ += row_asleep_[j];
+    }
+
+    // Many ranks (fluid/ranks.hpp): from now on this rank solves the rows of its block of r; the state must
+    // be current in every row (as after project() or share()). Null: all rows.
+    bool divisible() const override { return D == 2; }
+    void divide(const Ranks* r) override {
+        ranks_ = r && r->many() ? r : nullptr;
+        active_changed();
+        check_all_ = true; // rows newly in reach of the still-water test are read afresh
+    }
+    // The rows a rank reads beyond its block: one through a face or the limiter's neighbours, and with still
+    // water the reach of the test that wakes cells (wake) and one more for the cells it wakes.
+    int halo() const override { return skip_ ? reach() + 2 : 1; }
+    // The whole state on every rank (before an output or a new division).
+    void share() override {
+        if (!ranks_) return;
+        ranks_->share(u_.data(), row_doubles());
+        if (skip_) ranks_->share(awake_.data(), mesh_.padded_nx());
+        check_all_ = true;
+    }
+    // The cells each row of this rank's block updates (others 0): what a division balances.
+    std::vector<double> row_cost() const override {
+        std::vector<double> c(mesh_.ny, 0.0);
+        for (int j = row_begin(); j < row_end(); ++j)
+            c[j] = row_solved_[j] + 1.0; // + 1: a row costs a little even with every cell asleep
+        return c;
     }
 
     // Sets cell (i, j) to the constant polynomial of a primitive state.
@@ -384,6 +429,15 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     double points_[NB][NP];
     double point_max_[NB]; // max over the points of |φ_l|
     std::vector<double> u_, u0_, stage_, rhs_;
+    const Ranks* ranks_ = nullptr; // many ranks: this rank solves the rows of its block only (divide)
+    int row_begin() const { return ranks_ ? ranks_->begin() : 0; }
+    int row_end() const { return ranks_ ? ranks_->end() : mesh_.ny; }
+    long row_doubles() const { return static_cast<long>(mesh_.padded_nx()) * NC; }
+    // The first and last `depth` rows of this rank's block of U to the neighbours, theirs into the rows
+    // beyond it.
+    void exchange(std::vector<double>& U, int depth) {
+        if (ranks_) ranks_->exchange(U.data(), row_doubles(), depth);
+    }
     std::vector<std::vector<double>> band_faces_; // per thread: the face fluxes of its band (compute_rhs)
     std::vector<char> troubled_flag_;
     double time_ = 0.0, last_dt_ = 0.0;
@@ -513,26 +567,30 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         // of the cells not awake in the rows within R. There, a cell not awake is read only if something
         // other than its own update may have changed it (it is not updated): written since the last wake
         // (set_state_in into u, marked in written_), in the last step's copy spans, or all after new data.
+        // On many ranks, the rows of the block and its halo only (the rows beyond are stale): the rows
+        // [wa, wb). A cell of the halo is always read: the rank does not know what its owner wrote there.
+        const int wa = std::max(0, row_begin() - halo()), wb = std::min(ny, row_end() + halo());
         std::vector<int> from(ny), to(ny);
-        for (int j = 0; j < ny; ++j) {
+        for (int j = wa; j < wb; ++j) {
             int a = nx, b = 0;
-            for (int r = std::max(0, j - R); r <= std::min(ny - 1, j + R); ++r)
+            for (int r = std::max(wa, j - R); r <= std::min(wb - 1, j + R); ++r)
                 if (sleep_hi_[r] > sleep_lo_[r]) a = std::min(a, sleep_lo_[r]), b = std::max(b, sleep_hi_[r]);
             from[j] = std::max(0, a - R), to[j] = std::min(nx, b + R);
         }
         // Along x: near_ = 1 within R cells of a disturbed cell of the row.
 #pragma omp parallel for schedule(static) if (D == 2)
-        for (int j = 0; j < ny; ++j) {
+        for (int j = wa; j < wb; ++j) {
             char* h = near_.data() + static_cast<long>(j) * nx;
             std::fill(h, h + nx, 0);
             const int a = from[j], b = to[j];
             if (b <= a) continue;
             const int r = D == 2 ? j + 1 : 0;
             const int c0 = copy_lo_.empty() ? 0 : copy_lo_[r], c1 = copy_lo_.empty() ? 0 : copy_hi_[r];
+            const bool halo_row = j < row_begin() || j >= row_end();
             int last = -2 * R - 2;
             for (int i = a; i < b; ++i) {
                 const long k = mesh_.index(i, j);
-                const bool read = check_all_ || awake_[k] || written_[k] || (i >= c0 && i < c1);
+                const bool read = check_all_ || halo_row || awake_[k] || written_[k] || (i >= c0 && i < c1);
                 written_[k] = 0;
                 h[i] = read && disturbed(i, j);
                 if (h[i]) last = i;
@@ -555,19 +613,19 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 #ifdef _OPENMP
             threads = omp_get_num_threads(), thread = omp_get_thread_num();
 #endif
-            const int j0 = static_cast<int>(static_cast<long>(ny) * thread / threads);
-            const int j1 = static_cast<int>(static_cast<long>(ny) * (thread + 1) / threads);
+            const int j0 = wa + static_cast<int>(static_cast<long>(wb - wa) * thread / threads);
+            const int j1 = wa + static_cast<int>(static_cast<long>(wb - wa) * (thread + 1) / threads);
             std::vector<int> count(nx, 0);
             auto add = [&](int r, int sign) {
                 const char* h = near_.data() + static_cast<long>(r) * nx;
                 for (int i = 0; i < nx; ++i)
                     count[i] += sign * h[i];
             };
-            for (int r = std::max(0, j0 - R); r < std::min(ny, j0 + R); ++r)
+            for (int r = std::max(wa, j0 - R); r < std::min(wb, j0 + R); ++r)
                 add(r, 1);
             int first = ny, last = -1; // rows with cells woken
             for (int j = j0; j < j1; ++j) {
-                if (j + R < ny) add(j + R, 1); // the window is now rows [j − R, j + R]
+                if (j + R < wb) add(j + R, 1); // the window is now rows [j − R, j + R]
                 char* a = awake_.data() + mesh_.index(0, j);
                 long row = 0;
                 for (int i = 0; i < nx; ++i) {
@@ -577,7 +635,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 }
                 if (row > 0) first = std::min(first, j), last = j, sleep_span(j);
                 woken += row;
-                if (j - R >= 0) add(j - R, -1);
+                if (j - R >= wa) add(j - R, -1);
             }
 #pragma omp critical(undex_wake_rows)
             woken_rows_[0] = std::min(woken_rows_[0], first), woken_rows_[1] = std::max(woken_rows_[1], last);
@@ -672,7 +730,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         const double sa = st.a, sb = st.b, sbdt = st.bdt;
         fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
         if (stage_ghosts_) stage_ghosts_(U);
-        const int nx = mesh_.nx, ny = mesh_.ny, bands = (ny + BAND - 1) / BAND;
+        const int nx = mesh_.nx, rb = row_begin(), re = row_end(), bands = (re - rb + BAND - 1) / BAND;
         const long xrow = static_cast<long>(nx + 1) * NQF * NV, yrow = static_cast<long>(nx) * NQF * NV;
 #ifdef _OPENMP
         const size_t threads = D == 2 ? omp_get_max_threads() : 1;
@@ -691,7 +749,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             faces.resize(BAND * xrow + (D == 2 ? (BAND + 1) * yrow : 0)); // once per thread
 #pragma omp for schedule(dynamic, 1)
             for (int b = 0; b < bands; ++b) {
-                const int j0 = b * BAND, j1 = std::min(ny, j0 + BAND);
+                const int j0 = rb + b * BAND, j1 = std::min(re, j0 + BAND);
                 double* fx = faces.data();     // x faces of row j at fx + (j − j0)·xrow
                 double* fy = fx + BAND * xrow; // y faces of face row j (j0 … j1) at fy + (j − j0)·yrow
                 for (int j = j0; j < j1; ++j)

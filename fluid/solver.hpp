@@ -13,6 +13,8 @@
 
 namespace undex::fluid {
 
+class Ranks;
+
 // A state the method cannot hold: NaN, ρ ≤ 0 or p + P∞ ≤ 0 in a cell average after limiting.
 struct SolverFailure : std::runtime_error {
     using std::runtime_error::runtime_error;
@@ -108,6 +110,18 @@ class FluidSolver {
     // from a checkpoint continues bit for bit. Called on a solver made from the same case (and, in 2D with a
     // structure, attached to the same wet nodes).
     virtual void state(State& s) = 0;
+    // Takes back the last step (another rank's failed).
+    virtual void revert_step() {}
+
+    // Many ranks (fluid/ranks.hpp, docs/scale_out.md): whether this solver can run on many; the division it
+    // solves from now on (the state must be current in every row, as after the initial data or share());
+    // the rows it reads beyond its block; the whole state current on every rank; per row of its block the
+    // cells it updates (others 0).
+    virtual bool divisible() const { return false; }
+    virtual void divide(const Ranks* /*ranks*/) {}
+    virtual int halo() const { return 1; }
+    virtual void share() {}
+    virtual std::vector<double> row_cost() const { return {}; }
 };
 
 // The fluid next to a wet node (physics.md §5.1): pressure, velocity along the node's normal, density and

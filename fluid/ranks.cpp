@@ -1,0 +1,163 @@
+#include "fluid/ranks.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <iostream>
+#include <stdexcept>
+
+namespace undex::fluid {
+
+namespace {
+
+// MPI is initialised when the process was started by mpirun (which sets OMPI_COMM_WORLD_SIZE) and finalised
+// when the process ends normally.
+struct Session {
+    bool on = false;
+    Session() {
+        if (!std::getenv("OMPI_COMM_WORLD_SIZE")) return;
+        int provided = 0;
+        MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+        on = true;
+    }
+    ~Session() {
+        int done = 0;
+        if (on && (MPI_Finalized(&done), !done)) MPI_Finalize();
+    }
+};
+
+template <class T> MPI_Datatype type();
+template <> MPI_Datatype type<double>() {
+    return MPI_DOUBLE;
+}
+template <> MPI_Datatype type<char>() {
+    return MPI_CHAR;
+}
+
+} // namespace
+
+Ranks& Ranks::world() {
+    static Session session;
+    static Ranks r = [] {
+        Ranks x;
+        if (session.on) {
+            MPI_Comm_rank(MPI_COMM_WORLD, &x.rank_);
+            MPI_Comm_size(MPI_COMM_WORLD, &x.size_);
+        }
+        x.first_.assign(x.size_ + 1, 0);
+        return x;
+    }();
+    return r;
+}
+
+void Ranks::divide(const std::vector<double>& cost, int min_rows) {
+    const int ny = static_cast<int>(cost.size());
+    if (ny < size_ * min_rows)
+        throw std::invalid_argument(std::to_string(ny) + " rows cannot be divided into " +
+                                    std::to_string(size_) + " blocks of at least " + std::to_string(min_rows) +
+                                    " rows (the halo): use fewer ranks");
+    std::vector<double> prefix(ny + 1, 0.0);
+    for (int j = 0; j < ny; ++j)
+        prefix[j + 1] = prefix[j] + cost[j];
+    first_.assign(size_ + 1, 0);
+    first_[size_] = ny;
+    // Block r ends at the row where the running cost is nearest r + 1 shares of the total, kept within the
+    // rows that leave every block at least min_rows.
+    for (int r = 1; r < size_; ++r) {
+        const double target = prefix[ny] * r / size_;
+        int j = static_cast<int>(std::lower_bound(prefix.begin(), prefix.end(), target) - prefix.begin());
+        if (j > 0 && target - prefix[j - 1] < prefix[j] - target) --j;
+        j = std::clamp(j, first_[r - 1] + min_rows, ny - (size_ - r) * min_rows);
+        first_[r] = j;
+    }
+}
+
+double Ranks::imbalance(const std::vector<double>& cost) const {
+    double total = 0, worst = 0;
+    for (int r = 0; r < size_; ++r) {
+        double c = 0;
+        for (int j = first_[r]; j < first_[r + 1]; ++j)
+            c += cost[j];
+        total += c, worst = std::max(worst, c);
+    }
+    return total > 0 ? worst * size_ / total : 1.0;
+}
+
+template <class T> void Ranks::exchange_rows(T* rows, long row, int depth) const {
+    if (size_ == 1 || depth <= 0) return;
+    // Padded row r = j + 1: the block is padded rows [begin + 1, end + 1).
+    const long b = begin() + 1, e = end() + 1, n = row * depth;
+    const int down = rank_ > 0 ? rank_ - 1 : MPI_PROC_NULL, up = rank_ + 1 < size_ ? rank_ + 1 : MPI_PROC_NULL;
+    MPI_Request q[4];
+    MPI_Irecv(rows + (b - depth) * row, n, type<T>(), down, 1, MPI_COMM_WORLD, &q[0]);
+    MPI_Irecv(rows + e * row, n, type<T>(), up, 2, MPI_COMM_WORLD, &q[1]);
+    MPI_Isend(rows + b * row, n, type<T>(), down, 2, MPI_COMM_WORLD, &q[2]);
+    MPI_Isend(rows + (e - depth) * row, n, type<T>(), up, 1, MPI_COMM_WORLD, &q[3]);
+    MPI_Waitall(4, q, MPI_STATUSES_IGNORE);
+}
+void Ranks::exchange(double* rows, long row, int depth) const {
+    exchange_rows(rows, row, depth);
+}
+void Ranks::exchange(char* rows, long row, int depth) const {
+    exchange_rows(rows, row, depth);
+}
+
+template <class T> void Ranks::share_rows(T* rows, long row) const {
+    if (size_ == 1) return;
+    std::vector<int> count(size_), offset(size_);
+    for (int r = 0; r < size_; ++r)
+        count[r] = static_cast<int>((first_[r + 1] - first_[r]) * row), offset[r] = (first_[r] + 1) * row;
+    MPI_Allgatherv(MPI_IN_PLACE, 0, type<T>(), rows, count.data(), offset.data(), type<T>(), MPI_COMM_WORLD);
+}
+void Ranks::share(double* rows, long row) const {
+    share_rows(rows, row);
+}
+void Ranks::share(char* rows, long row) const {
+    share_rows(rows, row);
+}
+
+void Ranks::max(std::vector<double>& v) const {
+    if (size_ == 1) return;
+    MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+}
+
+long Ranks::sum(long v) const {
+    if (size_ == 1) return v;
+    long s = 0;
+    MPI_Allreduce(&v, &s, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+    return s;
+}
+
+std::string Ranks::broadcast(const std::string& text, int from) const {
+    if (size_ == 1) return text;
+    int n = static_cast<int>(text.size());
+    MPI_Bcast(&n, 1, MPI_INT, from, MPI_COMM_WORLD);
+    std::string out = rank_ == from ? text : std::string(n, '\0');
+    MPI_Bcast(out.data(), n, MPI_CHAR, from, MPI_COMM_WORLD);
+    return out;
+}
+
+std::vector<double> Ranks::gather(const std::vector<double>& v) const {
+    if (size_ == 1) return v;
+    const int n = static_cast<int>(v.size());
+    std::vector<int> count(size_), offset(size_);
+    MPI_Gather(&n, 1, MPI_INT, count.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    std::vector<double> out;
+    if (root()) {
+        for (int r = 1; r < size_; ++r)
+            offset[r] = offset[r - 1] + count[r - 1];
+        out.resize(offset[size_ - 1] + count[size_ - 1]);
+    }
+    MPI_Gatherv(v.data(), n, MPI_DOUBLE, out.data(), count.data(), offset.data(), MPI_DOUBLE, 0,
+                MPI_COMM_WORLD);
+    return out;
+}
+
+void Ranks::abort(const std::string& why, int status) const {
+    std::cerr << why << std::endl;
+    MPI_Abort(MPI_COMM_WORLD, status);
+    std::exit(status);
+}
+
+} // namespace undex::fluid

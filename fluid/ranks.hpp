@@ -1,0 +1,62 @@
+// The fluid's MPI ranks (started by mpirun; docs/scale_out.md). The 2D mesh is divided into blocks of whole
+// rows, one per rank: a rank solves the cells of its rows and keeps the `halo` rows on either side as its
+// neighbours computed them. Every rank holds arrays of the whole padded mesh (rows stay contiguous, so a
+// block of rows is one contiguous range and is sent without packing); rows outside the rank's block and its
+// halo are stale until share() makes the whole state current on every rank (before an output and a new
+// division). Without mpirun there is one rank and every call is a no-op. MPI stays inside ranks.cpp.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace undex::fluid {
+
+class Ranks {
+  public:
+    // The ranks of this process: MPI_COMM_WORLD when started by mpirun (MPI initialised on first use and
+    // finalised at exit), one rank otherwise.
+    static Ranks& world();
+    int rank() const { return rank_; }
+    int size() const { return size_; }
+    bool many() const { return size_ > 1; }
+    bool root() const { return rank_ == 0; }
+
+    // The division of ny rows: rank r solves rows [first[r], first[r + 1]). Balanced by cost (one entry per
+    // row, the cells it updates): each block's cost as near the mean as whole rows allow, at least `min_rows`
+    // rows per block. Throws std::invalid_argument when ny < size · min_rows.
+    void divide(const std::vector<double>& cost, int min_rows);
+    int begin() const { return first_[rank_]; }
+    int end() const { return first_[rank_ + 1]; }
+    int begin(int r) const { return first_[r]; }
+    int end(int r) const { return first_[r + 1]; }
+    // max over the blocks of their cost / mean cost (1: balanced).
+    double imbalance(const std::vector<double>& cost) const;
+
+    // Halo exchange on an array of padded rows (padded row r = j + 1, `row` doubles or bytes each): the first
+    // and last `depth` rows of this rank's block go to the neighbours, theirs come into the rows beyond it.
+    void exchange(double* rows, long row, int depth) const;
+    void exchange(char* rows, long row, int depth) const;
+    // Every rank's block to every rank (padded rows as exchange()).
+    void share(double* rows, long row) const;
+    void share(char* rows, long row) const;
+
+    // In place, over the ranks: the element-wise maximum (exact and the same on every rank whatever the
+    // order), the sum of integers.
+    void max(std::vector<double>& v) const;
+    long sum(long v) const;
+    // Rank `from`'s text on every rank.
+    std::string broadcast(const std::string& text, int from) const;
+    // Gathers variable-length data to the root (rank order); other ranks get {}.
+    std::vector<double> gather(const std::vector<double>& v) const;
+
+    // Ends every rank at once (MPI_Abort), after `why` on stderr: for a rank that cannot go on alone.
+    [[noreturn]] void abort(const std::string& why, int status) const;
+
+  private:
+    Ranks() = default;
+    int rank_ = 0, size_ = 1;
+    std::vector<int> first_ = {0, 0};
+    template <class T> void exchange_rows(T* rows, long row, int depth) const;
+    template <class T> void share_rows(T* rows, long row) const;
+};
+
+} // namespace undex::fluid
