@@ -179,6 +179,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         work([&] { limit(stage_, time_ + dt, "stage 3"); });
         if (failure) {
             copy_region(u_, u0_);
+            exchange(u_, halo()); // as the ranks that did not fail do below
             std::ostringstream s;
             s << failure->what() << " in step " << steps_ + 1 << " from t = " << time_ << " s with dt = " << dt
               << " s";

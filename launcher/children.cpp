@@ -82,7 +82,7 @@ int exec(const std::vector<std::string>& args) {
     std::vector<std::string> copy = args;
     auto argv = c_args(copy);
     std::cout.flush();
-    execv(argv[0], argv.data());
+    execvp(argv[0], argv.data()); // a path, or a program on PATH (mpirun)
     std::cerr << "undex: error: cannot start " << args[0] << ": " << std::strerror(errno) << "\n";
     return 1;
 }

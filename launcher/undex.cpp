@@ -25,6 +25,7 @@
 #include "launcher/children.hpp"
 #include "launcher/coupled.hpp"
 #include "launcher/gauges.hpp"
+#include "launcher/mpirun.hpp"
 #include "proto/case.pb.h"
 
 #include <CLI/CLI.hpp>
@@ -92,7 +93,7 @@ int check(const CaseRequest& r) {
 }
 
 int run(CaseRequest r, const std::string& endpoint, bool tcp, bool force, const std::string& command,
-        const std::string& resume) {
+        const std::string& resume, int ranks, const std::string& hosts) {
     // --resume DIR is the run of CASE in DIR: its output directory.
     if (!resume.empty()) {
         if (!r.output.empty() && r.output != resume)
@@ -104,6 +105,11 @@ int run(CaseRequest r, const std::string& endpoint, bool tcp, bool force, const 
     const auto c = undex::CaseFile::load(r.path, r.overrides());
     check_parts(r, c);
     const bool fluid = undex::has_fluid(c), structure = undex::has_structure(c);
+    if (ranks == 0) ranks = c.get().numerics().ranks();
+    if (ranks > 1 && !fluid)
+        throw undex::UsageError("--ranks: the case has no fluid (the structure runs on one)");
+    if (ranks > 1 && structure)
+        throw undex::UsageError("--ranks: a fluid coupled to a structure runs on one rank so far");
     if (fluid && structure) {
         const auto& st = c.get().structure();
         CoupledRun run{r.path,
@@ -131,7 +137,9 @@ int run(CaseRequest r, const std::string& endpoint, bool tcp, bool force, const 
         return run_coupled(run);
     }
     // A single-field case needs only its own process, which takes undex's place and locks the directory.
-    std::vector<std::string> args = {exe(fluid ? "undex-fluid" : "undex-solid"), r.path};
+    std::vector<std::string> args;
+    if (ranks > 1) args = mpirun_prefix(ranks, c.get().numerics().threads(), hosts);
+    args.insert(args.end(), {exe(fluid ? "undex-fluid" : "undex-solid"), r.path});
     const auto more = r.solver_args();
     args.insert(args.end(), more.begin(), more.end());
     if (force) args.push_back("--force");
@@ -157,6 +165,8 @@ struct Request {
     std::string endpoint;
     bool tcp = false, force = false;
     std::string resume;                         // run --resume DIR
+    int ranks = 0;                              // run --ranks N (0: the case's numerics.ranks)
+    std::string hosts;                          // run --hosts FILE
     std::string command_line;                   // undex's own, for the lock file
     std::string dir, time, line, fields, gauge; // sample, gauges
     int points = 0;
@@ -192,6 +202,12 @@ void describe(CLI::App& app, Request& r) {
     run->add_option("--endpoint", r.endpoint, "couple over ENDPOINT (ipc://PATH or tcp://HOST:PORT)")
         ->type_name("ENDPOINT")
         ->excludes(tcp);
+    run->add_option("--ranks", r.ranks,
+                    "run the fluid as N MPI ranks (mpirun; overrides numerics.ranks; docs/scale_out.md)")
+        ->type_name("N")
+        ->check(CLI::Range(1, 65536));
+    run->add_option("--hosts", r.hosts, "mpirun's --hostfile: the hosts the fluid's ranks run on")
+        ->type_name("FILE");
     run->add_flag("--force", r.force,
                   "take over a stale lock of the output directory (left by a run that was killed)");
     run->add_option("--resume", r.resume,
@@ -215,7 +231,8 @@ void describe(CLI::App& app, Request& r) {
 int dispatch(const CLI::App& app, const Request& r) {
     const std::string cmd = app.get_subcommands().front()->get_name();
     if (cmd == "check") return check(r.case_request);
-    if (cmd == "run") return run(r.case_request, r.endpoint, r.tcp, r.force, r.command_line, r.resume);
+    if (cmd == "run")
+        return run(r.case_request, r.endpoint, r.tcp, r.force, r.command_line, r.resume, r.ranks, r.hosts);
     if (cmd == "sample") {
         std::vector<std::string> args = {
             exe("undex-fluid"),      "--sample", r.dir, "--time", r.time, "--line", r.line, "--points",

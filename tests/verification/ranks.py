@@ -1,0 +1,108 @@
+#!/usr/bin/python3
+"""The fluid on many MPI ranks (`undex run --ranks N`, fluid/ranks.hpp, docs/scale_out.md) gives the answer
+of one rank to the last bit: every floating-point dataset of fluid.h5 (fields with their DG coefficients,
+gauges) is compared with np.array_equal against the run on one rank. Bitwise, not to a tolerance: each cell
+is computed by one rank with the same operations in the same order as on one rank, halos are copies, and
+the one reduction per step (Δt, the gauges) is a maximum, exact in any order.
+
+Runs (one thread per rank; 4 ranks oversubscribe this host's 2 cores):
+  riemann_2d, 64 x 64 cells at degree 2 with the WENO limiter, to t = 0.05, on 1, 2 and 4 ranks;
+  tests/cases/still_water_2d.case (one fluid: a ball of water moving at (100, 40) m/s in water at rest,
+    120 x 120 cells at degree 1, to 2e-4 s, three outputs, a gauge on a rank boundary), on 1 and 3 ranks: the still water is skipped (the halo carries the still-water test's reach) and the rows
+    are divided again at outputs as the updated cells grow (the log must say so).
+Faults and refusals, on 2 ranks:
+  a state the method cannot hold in one rank's rows (positivity and limiter off on a strong jump): exit
+    status 2 with a message naming the rank, the cell and the step, the output kept with the last good state;
+  a case the ranks cannot run yet (two fluids) is refused before anything is written, naming numerics.ranks.
+
+    ranks.py BIN_DIR CASES_DIR WORK_DIR
+"""
+import os
+import shutil
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+bin_dir, cases, work = sys.argv[1:4]
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+failures = []
+
+
+def check(what, ok):
+    print(("ok: " if ok else "FAIL: ") + what, flush=True)
+    if not ok:
+        failures.append(what)
+
+
+def run(case, name, ranks, sets):
+    args = [os.path.join(bin_dir, "undex"), "run", os.path.join(cases, case), "-o", os.path.join(work, name),
+            "--set", "numerics.threads=1"]
+    if ranks > 1:
+        args += ["--ranks", str(ranks)]
+    for s in sets:
+        args += ["--set", s]
+    try:  # a rank left waiting for another would hang the run: a hang fails here
+        p = subprocess.run(args, capture_output=True, text=True, timeout=120)
+    except subprocess.TimeoutExpired as e:
+        subprocess.run(["pkill", "-9", "-f", os.path.join(work, name)])
+        return -1, "timed out after 120 s: %s" % (e.stdout or "")
+    return p.returncode, p.stdout + p.stderr
+
+
+def datasets(path):
+    out = {}
+    with h5py.File(path, "r") as f:
+        f.visititems(lambda n, o: out.__setitem__(n, o[()]) if isinstance(o, h5py.Dataset)
+                     and o.dtype.kind == "f" else None)
+    return out
+
+
+def same(name, reference, other):
+    a, b = datasets(os.path.join(work, reference, "fluid.h5")), datasets(os.path.join(work, other, "fluid.h5"))
+    differ = [k for k in a if k not in b or a[k].shape != b[k].shape or not np.array_equal(a[k], b[k])]
+    check("%s: %d float datasets bitwise the same as one rank%s" % (name, len(a), "; differ: " +
+          ", ".join(differ[:5]) if differ else ""), len(a) > 10 and not differ)
+
+
+riemann = ["domain.cells_x=64", "domain.cells_y=64", "end_time=0.05", "output.times[0]=0.025",
+           "numerics.limiter=weno"]
+for n in (1, 2, 4):
+    status, log = run("riemann_2d.case", "riemann_%d" % n, n, riemann)
+    check("riemann_2d on %d rank(s): exit status 0 (got %d)" % (n, status), status == 0)
+    if status:
+        print(log)
+for n in (2, 4):
+    same("riemann_2d on %d ranks" % n, "riemann_1", "riemann_%d" % n)
+
+still = []
+logs = {}
+for n in (1, 3):
+    status, logs[n] = run("../tests/cases/still_water_2d.case", "still_%d" % n, n, still)
+    check("still water on %d rank(s): exit status 0 (got %d)" % (n, status), status == 0)
+    if status:
+        print(logs[n])
+same("still water on 3 ranks", "still_1", "still_3")
+check("still water: cell updates skipped", "cell updates skipped (still water)" in logs[1])
+check("still water on 3 ranks: the rows divided again at an output", "rows divided again" in logs[3])
+
+status, log = run("riemann_2d.case", "failure", 2, riemann[:4] + [
+    "numerics.indicator=none", "numerics.positivity=false", "regions[3].p=1e4", "regions[3].rho=1e-3"])
+print(log)
+check("failure on 2 ranks: exit status 2 (got %d)" % status, status == 2)
+check("failure on 2 ranks: the message names the rank, the cell and the step",
+      "fluid rank " in log and "in cell (" in log and "in step " in log)
+with h5py.File(os.path.join(work, "failure", "fluid.h5"), "r") as f:
+    g = f["fields"][sorted(f["fields"])[-1]]
+    check("failure on 2 ranks: status failed, the last good state written and finite",
+          f["status"][()].decode().startswith("failed: fluid rank") and g.attrs["last_good"] == 1
+          and np.isfinite(g["p"][()]).all())
+
+status, log = run("free_field_2d.case", "refused", 2, ["domain.cells_x=40", "domain.cells_y=40"])
+check("two fluids on 2 ranks: refused naming numerics.ranks (exit status %d)" % status,
+      status != 0 and "numerics.ranks" in log and not os.path.exists(os.path.join(work, "refused", "fluid.h5")))
+
+print("%d failed" % len(failures))
+sys.exit(1 if failures else 0)
