@@ -210,7 +210,7 @@ class FluidRun : public Run {
         if (!ranks_) out_->record_gauges(*solver_);
         if (frame_interval_ > 0 && solver_->time() >= next_frame_ * (1 - 1e-12)) {
             solver_->share();
-            if (root()) out_->write_frame(*solver_, frame_stride_);
+            root_writes([&] { out_->write_frame(*solver_, frame_stride_); });
             next_frame_ = frame_interval_ * (std::floor(solver_->time() / frame_interval_ * (1 + 1e-12)) + 1);
         }
     }
@@ -223,28 +223,30 @@ class FluidRun : public Run {
             keep_waiting.emplace([this] { (*link_)->heartbeat(); }, 1.0);
         }
         solver_->share();
-        if (!root()) return rebalance();
-        out_->write_fields(*solver_);
-        if (link_ && link_->wet() && !last_answer_.p_I.empty()) {
-            const WetFaces& f = link_->wet()->faces();
-            for (int k = 0; k < f.nodes(); ++k)
-                wet_rows_.insert(wet_rows_.end(),
-                                 {solver_->time(), double(k), double(f.face(k)), last_answer_.x[k],
-                                  last_answer_.y[k], last_grant_.p_L[k], last_grant_.u_L[k],
-                                  last_answer_.p_I[k], last_answer_.u_I[k], f.area(k)});
-        }
-        write_history();
+        root_writes([&] {
+            out_->write_fields(*solver_);
+            if (link_ && link_->wet() && !last_answer_.p_I.empty()) {
+                const WetFaces& f = link_->wet()->faces();
+                for (int k = 0; k < f.nodes(); ++k)
+                    wet_rows_.insert(wet_rows_.end(),
+                                     {solver_->time(), double(k), double(f.face(k)), last_answer_.x[k],
+                                      last_answer_.y[k], last_grant_.p_L[k], last_grant_.u_L[k],
+                                      last_answer_.p_I[k], last_answer_.u_I[k], f.area(k)});
+            }
+            write_history();
+        });
         rebalance();
     }
     void finish() override {
         if (link_) (*link_)->finalize("end time reached");
     }
     void complete() override {
-        if (!root()) return;
-        out_->write_gauges();
-        write_history();
-        out_->complete();
-        remove_checkpoints(directory_, "fluid"); // a complete run needs none
+        root_writes([&] {
+            out_->write_gauges();
+            write_history();
+            out_->complete();
+            remove_checkpoints(directory_, "fluid"); // a complete run needs none
+        });
     }
     void fail(const std::string& why) override {
         if (link_) (*link_)->fail(why); // best effort: the peer learns the cause
@@ -289,6 +291,20 @@ class FluidRun : public Run {
     std::vector<Primitive> gauge_values_;
     int divisions_ = 1;
     bool root() const { return !ranks_ || ranks_->root(); }
+    // What the root alone writes. On many ranks a write that fails (a full disk) cannot take the failure
+    // path, whose gather needs ranks that are already past the write: it ends every rank at once, saying
+    // why; the file keeps the outputs flushed before.
+    template <class F> void root_writes(F&& f) {
+        if (!root()) return;
+        if (!ranks_) return f();
+        try {
+            f();
+        } catch (const std::exception& e) {
+            ranks_->abort("undex-fluid: error: " + std::string(e.what()) + "; every rank ends; " +
+                              output_path() + " holds the outputs written before",
+                          exit_method_failed);
+        }
+    }
     // Many ranks, at the end of every step (and before the first): one MPI_Allreduce (max) agrees on the next
     // Δt (−Δt_f), on whether a rank failed in the step (its number + 1) or was asked to stop, and carries
     // the gauges' states from the ranks that hold them (the others give −∞). A failure is every rank's:

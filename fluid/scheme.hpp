@@ -225,7 +225,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
 #pragma omp parallel for schedule(static) if (D == 2)
         for (int j = j0; j <= j1; ++j) {
             int lo = nx, hi = 0, solved = 0, asleep = 0;
-            for (int i = 0; i < nx && j >= row_begin() && j < row_end(); ++i) {
+            const int n = j >= row_begin() && j < row_end() ? nx : 0; // another rank's row: none here
+            for (int i = 0; i < n; ++i) {
                 const long k = mesh_.index(i, j);
                 if (active_ && !(*active_)[k]) continue;
                 if (skip_ && !awake_[k]) {
