@@ -316,11 +316,14 @@ class LevelSet {
         }
         near_.clear();
         reads_.clear();
+        // A tube cell right of the previous one (the tube is sorted) adds only the last column of its square:
+        // the others were the previous cell's. The same cells in the same order as visiting every square.
         auto dilate = [&](int r, char bit, std::vector<int>& out) {
-            for (const int c : tube_) {
-                const int i = c % nx_, j = c / nx_;
+            for (size_t t = 0; t < tube_.size(); ++t) {
+                const int c = tube_[t], i = c % nx_, j = c / nx_;
+                const bool run = t > 0 && i > 0 && tube_[t - 1] == c - 1;
                 for (int b = std::max(0, j - r); b <= std::min(ny_ - 1, j + r); ++b)
-                    for (int a = std::max(0, i - r); a <= std::min(nx_ - 1, i + r); ++a) {
+                    for (int a = run ? i + r : std::max(0, i - r); a <= std::min(nx_ - 1, i + r); ++a) {
                         const int k = b * nx_ + a;
                         if (mark_[k] & bit) continue;
                         mark_[k] |= bit;

@@ -154,6 +154,17 @@ std::vector<double> Ranks::gather(const std::vector<double>& v) const {
     return out;
 }
 
+std::vector<double> Ranks::gather_all(const std::vector<double>& mine, const std::vector<int>& count) const {
+    if (size_ == 1) return mine;
+    std::vector<int> offset(size_, 0);
+    for (int r = 1; r < size_; ++r)
+        offset[r] = offset[r - 1] + count[r - 1];
+    std::vector<double> out(static_cast<size_t>(offset[size_ - 1]) + count[size_ - 1]);
+    MPI_Allgatherv(mine.data(), count[rank_], MPI_DOUBLE, out.data(), count.data(), offset.data(), MPI_DOUBLE,
+                   MPI_COMM_WORLD);
+    return out;
+}
+
 void Ranks::abort(const std::string& why, int status) const {
     std::cerr << why << std::endl;
     MPI_Abort(MPI_COMM_WORLD, status);

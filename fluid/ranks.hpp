@@ -47,6 +47,8 @@ class Ranks {
     std::string broadcast(const std::string& text, int from) const;
     // Gathers variable-length data to the root (rank order); other ranks get {}.
     std::vector<double> gather(const std::vector<double>& v) const;
+    // Every rank's `mine` on every rank, in rank order; count[r]: the length of rank r's (known to all).
+    std::vector<double> gather_all(const std::vector<double>& mine, const std::vector<int>& count) const;
 
     // Ends every rank at once (MPI_Abort), after `why` on stderr: for a rank that cannot go on alone.
     [[noreturn]] void abort(const std::string& why, int status) const;

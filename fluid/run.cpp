@@ -468,7 +468,7 @@ void divide(const CaseFile& c, RunPlan& p, Ranks& ranks, FluidSolver& solver, bo
             const std::string& resume, std::ostream& log) {
     const std::string n = std::to_string(ranks.size()) + " ranks";
     if (!solver.divisible())
-        c.fail("numerics.ranks", "the fluid runs on " + n + " only as one fluid in 2D so far; run it on one");
+        c.fail("numerics.ranks", "the fluid runs on " + n + " only in 2D without a structure so far; run it on one");
     if (coupled) c.fail("numerics.ranks", "a fluid coupled to a structure runs on one rank so far");
     if (!resume.empty()) c.fail("numerics.ranks", "a run on " + n + " cannot be resumed from a checkpoint yet");
     for (const auto* b : {&c.get().boundaries().y_min(), &c.get().boundaries().y_max()})

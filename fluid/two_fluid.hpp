@@ -14,11 +14,13 @@
 #include "fluid/eos.hpp"
 #include "fluid/interface_riemann.hpp"
 #include "fluid/level_set.hpp"
+#include "fluid/ranks.hpp"
 #include "fluid/scheme.hpp"
 
 #include <array>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -100,16 +102,27 @@ class TwoFluid final : public FluidSolver {
     void step(double dt) override {
         treat_interface();
         phi_.save(phi_before_);
+        // On many ranks both fluids step even when the first fails: the other ranks' steps wait on this
+        // rank's exchanges.
+        std::optional<SolverFailure> failure;
         try {
             minus_.step(dt);
         } catch (const SolverFailure& f) {
-            throw SolverFailure(names_[0] + ": " + f.what());
+            failure = SolverFailure(names_[0] + ": " + f.what());
+            if (!ranks_) throw *failure;
         }
         try {
             plus_.step(dt);
         } catch (const SolverFailure& f) {
-            minus_.revert_step();
-            throw SolverFailure(names_[1] + ": " + f.what());
+            if (!failure) {
+                minus_.revert_step();
+                throw SolverFailure(names_[1] + ": " + f.what());
+            }
+            throw *failure;
+        }
+        if (failure) {
+            plus_.revert_step();
+            throw *failure;
         }
         phi_.advect(wx_, wy_, dt);
         if (set_.reinit_every > 0 && minus_.steps() % set_.reinit_every == 0)
@@ -119,7 +132,7 @@ class TwoFluid final : public FluidSolver {
 
     // Takes back the last step (used when the fluid of another wet face fails in the same step): the state
     // after the step's interface treatment, which the real GFM had already redefined next to the interface.
-    void revert_step() {
+    void revert_step() override {
         minus_.revert_step();
         plus_.revert_step();
         phi_.restore(phi_before_);
@@ -146,6 +159,36 @@ class TwoFluid final : public FluidSolver {
         return phi_(i, j) < 0 ? f(minus_) : f(plus_);
     }
     const std::string& minus_name() const { return names_[0]; }
+
+    // Many ranks (fluid/ranks.hpp): both fluids solve the rows of this rank's block. The level set, the
+    // masks and the interface treatment are every rank's, over the whole tube, from the same data (the
+    // cell averages near the tube, gathered from their owners at each treatment): every rank holds the same
+    // φ, bit for bit, without a halo of its own. Their work grows with the interface's length, not with the
+    // mesh (docs/scale_out.md).
+    bool divisible() const override { return D == 2; }
+    void divide(const Ranks* r) override {
+        ranks_ = r && r->many() ? r : nullptr;
+        minus_.divide(r);
+        plus_.divide(r);
+        owner_.clear();
+        if (!ranks_) return;
+        owner_.resize(mesh_.ny);
+        for (int k = 0; k < ranks_->size(); ++k)
+            for (int j = ranks_->begin(k); j < ranks_->end(k); ++j)
+                owner_[j] = k;
+    }
+    int halo() const override { return std::max(minus_.halo(), plus_.halo()); }
+    void share() override {
+        minus_.share();
+        plus_.share();
+    }
+    std::vector<double> row_cost() const override {
+        std::vector<double> c = minus_.row_cost();
+        const std::vector<double> p = plus_.row_cost();
+        for (size_t j = 0; j < c.size(); ++j)
+            c[j] += p[j];
+        return c;
+    }
 
     void project(const std::function<void(double, double, double*)>&) override {
         throw std::logic_error("a two-fluid solver is initialised with initialise(), not project()");
@@ -236,6 +279,8 @@ class TwoFluid final : public FluidSolver {
     std::vector<double> wx_, wy_;   // extension velocity of the level set
     LevelSet::Snapshot phi_before_; // φ at the start of the last step
     const std::vector<char>* region_ = nullptr;
+    const Ranks* ranks_ = nullptr; // many ranks (divide), else null
+    std::vector<int> owner_;       // many ranks: the rank that solves each row
     // Work arrays of the interface treatment, kept between steps: allocating them afresh at every step cost
     // more than the treatment itself (zeroing and first-touch page faults, on one thread).
     std::vector<double> un_;
@@ -287,7 +332,7 @@ class TwoFluid final : public FluidSolver {
     Fields fm_, fp_; // the minus and plus fluid's (work arrays, as un_)
 
     // The cells near the level set's tube (all cells without one) are written: the interface treatment
-    // reads no other.
+    // reads no other. On many ranks the states of this rank's rows only (share_fields brings the others).
     template <class S> void read_fields(const S& scheme, bool minus, Fields& f) const {
         const size_t n = static_cast<size_t>(mesh_.nx) * mesh_.ny;
         for (auto* a : {&f.rho, &f.u, &f.v, &f.p})
@@ -298,9 +343,38 @@ class TwoFluid final : public FluidSolver {
 #pragma omp parallel for schedule(static) if (D == 2)
         for (long c = 0; c < m; ++c) {
             const int k = cells[c], i = k % mesh_.nx, j = k / mesh_.nx;
+            f.known[k] = in_region(i, j) && (phi_(i, j) < 0) == minus;
+            if (ranks_ && owner_[j] != ranks_->rank()) continue;
             const Primitive w = scheme.cell_average(i, j);
             f.rho[k] = w.rho, f.u[k] = w.u, f.v[k] = w.v, f.p[k] = w.p;
-            f.known[k] = in_region(i, j) && (phi_(i, j) < 0) == minus;
+        }
+    }
+    // Many ranks: the states near the tube of every rank's rows to every rank (one MPI_Allgatherv), listed
+    // by each owner in the order of near_tube().
+    void share_fields(Fields& fm, Fields& fp) const {
+        if (!ranks_) return;
+        const std::vector<int>& cells = phi_.near_tube();
+        const int me = ranks_->rank();
+        std::vector<int> count(ranks_->size(), 0);
+        std::vector<double> mine;
+        for (const int k : cells) {
+            const int r = owner_[k / mesh_.nx];
+            count[r] += 8;
+            if (r == me)
+                mine.insert(mine.end(),
+                            {fm.rho[k], fm.u[k], fm.v[k], fm.p[k], fp.rho[k], fp.u[k], fp.v[k], fp.p[k]});
+        }
+        const std::vector<double> all = ranks_->gather_all(mine, count);
+        std::vector<long> at(ranks_->size(), 0);
+        for (int r = 1; r < ranks_->size(); ++r)
+            at[r] = at[r - 1] + count[r - 1];
+        for (const int k : cells) {
+            const int r = owner_[k / mesh_.nx];
+            const double* q = all.data() + at[r];
+            at[r] += 8;
+            if (r == me) continue;
+            fm.rho[k] = q[0], fm.u[k] = q[1], fm.v[k] = q[2], fm.p[k] = q[3];
+            fp.rho[k] = q[4], fp.u[k] = q[5], fp.v[k] = q[6], fp.p[k] = q[7];
         }
     }
 
@@ -431,6 +505,7 @@ class TwoFluid final : public FluidSolver {
         Fields &fm = fm_, &fp = fp_;
         read_fields(minus_, true, fm);
         read_fields(plus_, false, fp);
+        share_fields(fm, fp);
         std::vector<double>& un = un_;
         std::vector<char>& un_known = un_known_;
         un.resize(n);

@@ -9,11 +9,15 @@ Runs (one thread per rank; 4 ranks oversubscribe this host's 2 cores):
   riemann_2d, 64 x 64 cells at degree 2 with the WENO limiter, to t = 0.05, on 1, 2 and 4 ranks;
   tests/cases/still_water_2d.case (one fluid: a ball of water moving at (100, 40) m/s in water at rest,
     120 x 120 cells at degree 1, to 2e-4 s, three outputs, a gauge on a rank boundary), on 1 and 3 ranks: the still water is skipped (the halo carries the still-water test's reach) and the rows
-    are divided again at outputs as the updated cells grow (the log must say so).
+    are divided again at outputs as the updated cells grow (the log must say so);
+  free_field_2d (case 4.4: a gas bubble in water, level set and ghost fluid) at 80 x 80 as shipped on 1, 2
+    and 4 ranks, and at 64 x 64 with the paper's setting (real GFM, WENO, degree 2) on 1 and 2 ranks: the
+    level set and the interface treatment are every rank's, from the cell averages near the interface
+    gathered from their owners.
 Faults and refusals, on 2 ranks:
   a state the method cannot hold in one rank's rows (positivity and limiter off on a strong jump): exit
     status 2 with a message naming the rank, the cell and the step, the output kept with the last good state;
-  a case the ranks cannot run yet (two fluids) is refused before anything is written, naming numerics.ranks.
+  a case the ranks cannot run yet (1D) is refused before anything is written, naming numerics.ranks.
 
     ranks.py BIN_DIR CASES_DIR WORK_DIR
 """
@@ -100,8 +104,20 @@ with h5py.File(os.path.join(work, "failure", "fluid.h5"), "r") as f:
           f["status"][()].decode().startswith("failed: fluid rank") and g.attrs["last_good"] == 1
           and np.isfinite(g["p"][()]).all())
 
-status, log = run("free_field_2d.case", "refused", 2, ["domain.cells_x=40", "domain.cells_y=40"])
-check("two fluids on 2 ranks: refused naming numerics.ranks (exit status %d)" % status,
+bubble = ["domain.cells_x=80", "domain.cells_y=80"]
+paper = ["domain.cells_x=64", "domain.cells_y=64", "interface.method=real_gfm", "numerics.limiter=weno",
+         "numerics.degree=2", "numerics.cfl=0.2"]
+for tag, sets, counts in (("bubble", bubble, (1, 2, 4)), ("bubble_paper", paper, (1, 2))):
+    for n in counts:
+        status, log = run("free_field_2d.case", "%s_%d" % (tag, n), n, sets)
+        check("%s on %d rank(s): exit status 0 (got %d)" % (tag, n, status), status == 0)
+        if status:
+            print(log)
+    for n in counts[1:]:
+        same("case 4.4 (%s) on %d ranks" % (tag, n), "%s_1" % tag, "%s_%d" % (tag, n))
+
+status, log = run("sod_1d.case", "refused", 2, [])
+check("1D on 2 ranks: refused naming numerics.ranks (exit status %d)" % status,
       status != 0 and "numerics.ranks" in log and not os.path.exists(os.path.join(work, "refused", "fluid.h5")))
 
 print("%d failed" % len(failures))
