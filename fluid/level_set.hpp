@@ -7,6 +7,7 @@
 // interface; the work of a step then grows with the interface's length, not with the mesh.
 #pragma once
 #include "fluid/mesh.hpp"
+#include "fluid/ranks.hpp"
 
 #include <algorithm>
 #include <array>
@@ -67,6 +68,21 @@ class LevelSet {
     double operator()(int i, int j) const { return phi_[static_cast<size_t>(j) * nx_ + i]; }
     const std::vector<double>& values() const { return phi_; }
 
+    // Many ranks (fluid/ranks.hpp): the rates of advection and reinitialisation are computed by the rank
+    // that solves each row, and the new values of every stage gathered to every rank (one MPI_Allgatherv
+    // per stage), so that every rank holds the same φ, bit for bit, and the same tube. Null: one rank.
+    void divide(const Ranks* r) {
+        ranks_ = r && r->many() ? r : nullptr;
+        owner_.clear();
+        if (!ranks_) return;
+        owner_.resize(ny_);
+        for (int k = 0; k < ranks_->size(); ++k)
+            for (int j = ranks_->begin(k); j < ranks_->end(k); ++j)
+                owner_[j] = k;
+    }
+    // Many ranks: the rank that solves each row (empty on one).
+    const std::vector<int>& row_owner() const { return owner_; }
+
     // Unit normal ∇φ/|∇φ| by central differences, one-sided at the domain edges; {1, 0} if ∇φ vanishes.
     std::array<double, 2> normal(int i, int j) const {
         const std::array<double, 2> g = gradient(i, j);
@@ -80,10 +96,11 @@ class LevelSet {
     void advect(const std::vector<double>& wx, const std::vector<double>& wy, double dt) {
         rk3(dt, [&](const std::vector<double>& phi, std::vector<double>& rate) {
             fill_padded(phi);
-            const long n = static_cast<long>(near_.size());
+            const long n = static_cast<long>(work_->size());
+            const int* cells = work_->data();
 #pragma omp parallel for if (dim_ == 2)
             for (long k = 0; k < n; ++k) {
-                const int c = near_[k], i = c % nx_, j = c / nx_, p = padded(i, j);
+                const int c = cells[k], i = c % nx_, j = c / nx_, p = padded(i, j);
                 if (wx[c] == 0.0 && (dim_ == 1 || wy[c] == 0.0)) {
                     rate[c] = 0.0; // at rest: no derivative needed
                     continue;
@@ -120,9 +137,11 @@ class LevelSet {
         for (int it = 0; it < iterations; ++it)
             rk3(dtau, [&](const std::vector<double>& phi, std::vector<double>& rate) {
                 fill_padded(phi);
+                const long w = static_cast<long>(work_->size());
+                const int* cells = work_->data();
 #pragma omp parallel for if (dim_ == 2)
-                for (long k = 0; k < n; ++k) {
-                    const int c = near_[k], p = padded(c % nx_, c / nx_);
+                for (long k = 0; k < w; ++k) {
+                    const int c = cells[k], p = padded(c % nx_, c / nx_);
                     const double s = sign0[c];
                     double grad2 = godunov2(weno(p, 1, dx_, false), weno(p, 1, dx_, true), s);
                     if (dim_ == 2) grad2 += godunov2(weno(p, px_, dy_, false), weno(p, px_, dy_, true), s);
@@ -252,6 +271,11 @@ class LevelSet {
     int tube_cells_ = 0;
     std::vector<int> tube_, near_, reads_;
     std::vector<char> mark_;
+    // Many ranks (divide): the rank of each row; in rk3, the cells of near_ this rank computes (own_), how
+    // many each rank computes, and the cells a rate is computed for (work_: own_, or near_ on one rank).
+    const Ranks* ranks_ = nullptr;
+    std::vector<int> owner_, own_, count_;
+    const std::vector<int>* work_ = &near_;
 
   public:
     // φ over reads_ and the lists, enough to take back one step of advection and reinitialisation (which
@@ -439,12 +463,24 @@ class LevelSet {
 
     // Shu–Osher TVD-RK3 on phi_ with the rate L(φ) computed by `rate_of(φ, L)`.
     // The rate is needed on near_ only, and changes φ there; in a tube the stage holds φ on reads_ beyond.
+    // On many ranks each rank updates its own cells of near_ and gathers the others' (gather_stage).
     template <class Rate> void rk3(double dt, Rate&& rate_of) {
         const size_t n = phi_.size();
         stage_.resize(n);
         rate_.resize(n);
-        const long m = static_cast<long>(near_.size());
-        const int* cells = near_.data();
+        work_ = &near_;
+        if (ranks_) {
+            own_.clear();
+            count_.assign(ranks_->size(), 0);
+            for (const int c : near_) {
+                const int r = owner_[c / nx_];
+                ++count_[r];
+                if (r == ranks_->rank()) own_.push_back(c);
+            }
+            work_ = &own_;
+        }
+        const long m = static_cast<long>(work_->size());
+        const int* cells = work_->data();
         rate_of(phi_, rate_);
         if (tube_cells_ > 0)
             for (const int c : reads_)
@@ -454,18 +490,35 @@ class LevelSet {
             const int c = cells[k];
             stage_[c] = phi_[c] + dt * rate_[c];
         }
+        gather_stage(stage_);
         rate_of(stage_, rate_);
 #pragma omp parallel for if (dim_ == 2)
         for (long k = 0; k < m; ++k) {
             const int c = cells[k];
             stage_[c] = 0.75 * phi_[c] + 0.25 * (stage_[c] + dt * rate_[c]);
         }
+        gather_stage(stage_);
         rate_of(stage_, rate_);
 #pragma omp parallel for if (dim_ == 2)
         for (long k = 0; k < m; ++k) {
             const int c = cells[k];
             phi_[c] = (phi_[c] + 2.0 * (stage_[c] + dt * rate_[c])) / 3.0;
         }
+        gather_stage(phi_);
+        work_ = &near_;
+    }
+    // Many ranks: every rank's values of its own cells of near_ (listed in the order of near_) into v.
+    void gather_stage(std::vector<double>& v) {
+        if (!ranks_) return;
+        std::vector<double> mine(own_.size());
+        for (size_t k = 0; k < own_.size(); ++k)
+            mine[k] = v[own_[k]];
+        const std::vector<double> all = ranks_->gather_all(mine, count_);
+        std::vector<long> at(ranks_->size(), 0);
+        for (int r = 1; r < ranks_->size(); ++r)
+            at[r] = at[r - 1] + count_[r - 1];
+        for (const int c : near_)
+            v[c] = all[at[owner_[c / nx_]]++];
     }
 };
 

@@ -160,22 +160,17 @@ class TwoFluid final : public FluidSolver {
     }
     const std::string& minus_name() const { return names_[0]; }
 
-    // Many ranks (fluid/ranks.hpp): both fluids solve the rows of this rank's block. The level set, the
-    // masks and the interface treatment are every rank's, over the whole tube, from the same data (the
-    // cell averages near the tube, gathered from their owners at each treatment): every rank holds the same
-    // φ, bit for bit, without a halo of its own. Their work grows with the interface's length, not with the
-    // mesh (docs/scale_out.md).
+    // Many ranks (fluid/ranks.hpp): both fluids solve the rows of this rank's block, and the level set's
+    // rates are computed by the rank of each row (LevelSet::divide). Every rank holds the whole φ, the
+    // masks and the ghost bands, bit for bit the same: the interface treatment is every rank's, over the
+    // whole tube, from the cell averages near it gathered from their owners (share_fields). Its work grows
+    // with the interface's length, not with the mesh (docs/scale_out.md).
     bool divisible() const override { return D == 2; }
     void divide(const Ranks* r) override {
         ranks_ = r && r->many() ? r : nullptr;
         minus_.divide(r);
         plus_.divide(r);
-        owner_.clear();
-        if (!ranks_) return;
-        owner_.resize(mesh_.ny);
-        for (int k = 0; k < ranks_->size(); ++k)
-            for (int j = ranks_->begin(k); j < ranks_->end(k); ++j)
-                owner_[j] = k;
+        phi_.divide(r);
     }
     int halo() const override { return std::max(minus_.halo(), plus_.halo()); }
     void share() override {
@@ -280,7 +275,6 @@ class TwoFluid final : public FluidSolver {
     LevelSet::Snapshot phi_before_; // φ at the start of the last step
     const std::vector<char>* region_ = nullptr;
     const Ranks* ranks_ = nullptr; // many ranks (divide), else null
-    std::vector<int> owner_;       // many ranks: the rank that solves each row
     // Work arrays of the interface treatment, kept between steps: allocating them afresh at every step cost
     // more than the treatment itself (zeroing and first-touch page faults, on one thread).
     std::vector<double> un_;
@@ -344,7 +338,7 @@ class TwoFluid final : public FluidSolver {
         for (long c = 0; c < m; ++c) {
             const int k = cells[c], i = k % mesh_.nx, j = k / mesh_.nx;
             f.known[k] = in_region(i, j) && (phi_(i, j) < 0) == minus;
-            if (ranks_ && owner_[j] != ranks_->rank()) continue;
+            if (ranks_ && phi_.row_owner()[j] != ranks_->rank()) continue;
             const Primitive w = scheme.cell_average(i, j);
             f.rho[k] = w.rho, f.u[k] = w.u, f.v[k] = w.v, f.p[k] = w.p;
         }
@@ -358,7 +352,7 @@ class TwoFluid final : public FluidSolver {
         std::vector<int> count(ranks_->size(), 0);
         std::vector<double> mine;
         for (const int k : cells) {
-            const int r = owner_[k / mesh_.nx];
+            const int r = phi_.row_owner()[k / mesh_.nx];
             count[r] += 8;
             if (r == me)
                 mine.insert(mine.end(),
@@ -369,7 +363,7 @@ class TwoFluid final : public FluidSolver {
         for (int r = 1; r < ranks_->size(); ++r)
             at[r] = at[r - 1] + count[r - 1];
         for (const int k : cells) {
-            const int r = owner_[k / mesh_.nx];
+            const int r = phi_.row_owner()[k / mesh_.nx];
             const double* q = all.data() + at[r];
             at[r] += 8;
             if (r == me) continue;
