@@ -3,9 +3,14 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
+#include <sstream>
 #include <stdexcept>
+#include <thread>
 
 namespace undex::fluid {
 
@@ -25,6 +30,71 @@ struct Session {
         int done = 0;
         if (on && (MPI_Finalized(&done), !done)) MPI_Finalize();
     }
+};
+
+// The watch over waits (Ranks::watch): when the wait under way began (steady clock, ns; 0: none), on which
+// ranks (−1: all), and the step; a thread looks every 0.1 s.
+struct Watch {
+    std::atomic<long> since{0}, step{0};
+    std::atomic<int> peer[2] = {-1, -1};
+    std::atomic<bool> done{false};
+    double limit = 0;
+    bool (*stopped)() = nullptr;
+    long signalled = 0; // when stopped() was first seen true
+    int rank = 0, size = 1;
+    std::thread thread;
+    ~Watch() {
+        done = true;
+        if (thread.joinable()) thread.join();
+    }
+    static long now() {
+        return std::chrono::duration_cast<std::chrono::nanoseconds>(
+                   std::chrono::steady_clock::now().time_since_epoch())
+            .count();
+    }
+    void run() {
+        while (!done) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            const long s = since;
+            if (s == 0) continue;
+            // A signal while waiting: mpirun ending the job because another rank died, once the wait has
+            // outlasted the signal by half a second (a signal to stop in order is agreed at the step's end,
+            // and every rank gets there).
+            if (stopped && stopped() && signalled == 0) signalled = now();
+            const bool signal = signalled != 0 && s < signalled && (now() - signalled) * 1e-9 > 0.5;
+            if (!signal && (now() - s) * 1e-9 < limit) continue;
+            std::ostringstream m;
+            m << "undex-fluid: error: fluid rank " << rank;
+            if (signal)
+                m << " was stopped by a signal (mpirun's, when another rank dies) while waiting ";
+            else
+                m << " has waited " << limit << " s ";
+            const int a = peer[0], b = peer[1];
+            if (a < 0 && b < 0 && size == 2)
+                m << "on rank " << 1 - rank << " (a reduction over both) in step " << step;
+            else if (a < 0 && b < 0)
+                m << "on one of the other ranks (a reduction over all) in step " << step;
+            else
+                m << "on rank " << (a >= 0 ? a : b) << (a >= 0 && b >= 0 ? " or " + std::to_string(b) : "")
+                  << " (a halo exchange) in step " << step;
+            m << (signal ? "" : ": it hangs or died") << "; every rank ends";
+            std::cerr << m.str() << std::endl;
+            std::_Exit(signal ? 4 : 3); // exit_stopped, exit_coupling_failed: mpirun ends the others
+        }
+    }
+};
+Watch& watch_state() {
+    static Watch w;
+    return w;
+}
+// A wait under the watch, on ranks a and b (−1: none; both −1: every rank).
+struct Waiting {
+    explicit Waiting(int a = -1, int b = -1) {
+        Watch& w = watch_state();
+        w.peer[0] = a, w.peer[1] = b;
+        w.since = Watch::now();
+    }
+    ~Waiting() { watch_state().since = 0; }
 };
 
 template <class T> MPI_Datatype type();
@@ -94,6 +164,7 @@ template <class T> void Ranks::exchange_rows(T* rows, long row, int depth) const
     MPI_Irecv(rows + e * row, n, type<T>(), up, 2, MPI_COMM_WORLD, &q[1]);
     MPI_Isend(rows + b * row, n, type<T>(), down, 2, MPI_COMM_WORLD, &q[2]);
     MPI_Isend(rows + (e - depth) * row, n, type<T>(), up, 1, MPI_COMM_WORLD, &q[3]);
+    Waiting w(rank_ > 0 ? down : -1, rank_ + 1 < size_ ? up : -1);
     MPI_Waitall(4, q, MPI_STATUSES_IGNORE);
 }
 void Ranks::exchange(double* rows, long row, int depth) const {
@@ -108,6 +179,7 @@ template <class T> void Ranks::share_rows(T* rows, long row) const {
     std::vector<int> count(size_), offset(size_);
     for (int r = 0; r < size_; ++r)
         count[r] = static_cast<int>((first_[r + 1] - first_[r]) * row), offset[r] = (first_[r] + 1) * row;
+    Waiting w;
     MPI_Allgatherv(MPI_IN_PLACE, 0, type<T>(), rows, count.data(), offset.data(), type<T>(), MPI_COMM_WORLD);
 }
 void Ranks::share(double* rows, long row) const {
@@ -119,12 +191,14 @@ void Ranks::share(char* rows, long row) const {
 
 void Ranks::max(std::vector<double>& v) const {
     if (size_ == 1) return;
+    Waiting w;
     MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
 }
 
 long Ranks::sum(long v) const {
     if (size_ == 1) return v;
     long s = 0;
+    Waiting w;
     MPI_Allreduce(&v, &s, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
     return s;
 }
@@ -132,6 +206,7 @@ long Ranks::sum(long v) const {
 std::string Ranks::broadcast(const std::string& text, int from) const {
     if (size_ == 1) return text;
     int n = static_cast<int>(text.size());
+    Waiting w;
     MPI_Bcast(&n, 1, MPI_INT, from, MPI_COMM_WORLD);
     std::string out = rank_ == from ? text : std::string(n, '\0');
     MPI_Bcast(out.data(), n, MPI_CHAR, from, MPI_COMM_WORLD);
@@ -142,6 +217,7 @@ std::vector<double> Ranks::gather(const std::vector<double>& v) const {
     if (size_ == 1) return v;
     const int n = static_cast<int>(v.size());
     std::vector<int> count(size_), offset(size_);
+    Waiting w;
     MPI_Gather(&n, 1, MPI_INT, count.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
     std::vector<double> out;
     if (root()) {
@@ -160,9 +236,22 @@ std::vector<double> Ranks::gather_all(const std::vector<double>& mine, const std
     for (int r = 1; r < size_; ++r)
         offset[r] = offset[r - 1] + count[r - 1];
     std::vector<double> out(static_cast<size_t>(offset[size_ - 1]) + count[size_ - 1]);
+    Waiting w;
     MPI_Allgatherv(mine.data(), count[rank_], MPI_DOUBLE, out.data(), count.data(), offset.data(), MPI_DOUBLE,
                    MPI_COMM_WORLD);
     return out;
+}
+
+void Ranks::watch(double seconds, bool (*stopped)()) const {
+    Watch& w = watch_state();
+    if (size_ == 1 || w.thread.joinable()) return;
+    w.limit = seconds > 0 ? seconds : std::numeric_limits<double>::infinity();
+    w.stopped = stopped, w.rank = rank_, w.size = size_;
+    w.thread = std::thread([&w] { w.run(); });
+}
+
+void Ranks::at_step(long step) const {
+    watch_state().step = step;
 }
 
 void Ranks::abort(const std::string& why, int status) const {

@@ -50,6 +50,14 @@ class Ranks {
     // Every rank's `mine` on every rank, in rank order; count[r]: the length of rank r's (known to all).
     std::vector<double> gather_all(const std::vector<double>& mine, const std::vector<int>& count) const;
 
+    // A rank left waiting on the others (one hangs, or died unnoticed): from now on, once one exchange or
+    // reduction has waited `seconds`, this rank says what it waits on and in which step (at_step) on stderr
+    // and ends with exit status 3, and mpirun ends the others (0: wait for ever). Also when `stopped()`
+    // turns true during a wait (a signal: mpirun ending the job after a rank died), with status 4. A
+    // thread of its own watches.
+    void watch(double seconds, bool (*stopped)() = nullptr) const;
+    void at_step(long step) const;
+
     // Ends every rank at once (MPI_Abort), after `why` on stderr: for a rank that cannot go on alone.
     [[noreturn]] void abort(const std::string& why, int status) const;
 

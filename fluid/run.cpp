@@ -312,6 +312,7 @@ class FluidRun : public Run {
     void agree(const std::optional<std::string>& failure) {
         const double none = -std::numeric_limits<double>::infinity();
         const Mesh& m = solver_->mesh();
+        ranks_->at_step(std::max(1L, solver_->steps())); // the step this reduction ends
         std::vector<double> v = {-solver_->stable_dt(), failure ? ranks_->rank() + 1.0 : 0.0,
                                  stop_requested() ? 1.0 : 0.0};
         for (const GaugePoint& g : gauges_) {
@@ -322,6 +323,7 @@ class FluidRun : public Run {
                 v.push_back(mine ? x : none);
         }
         ranks_->max(v);
+        ranks_->at_step(solver_->steps() + 1);
         next_dt_ = -v[0];
         stop_ = v[2] > 0;
         gauge_values_.resize(gauges_.size());
@@ -468,7 +470,8 @@ void divide(const CaseFile& c, RunPlan& p, Ranks& ranks, FluidSolver& solver, bo
             const std::string& resume, std::ostream& log) {
     const std::string n = std::to_string(ranks.size()) + " ranks";
     if (!solver.divisible())
-        c.fail("numerics.ranks", "the fluid runs on " + n + " only in 2D without a structure so far; run it on one");
+        c.fail("numerics.ranks",
+               "the fluid runs on " + n + " only in 2D without a structure so far; run it on one");
     if (coupled) c.fail("numerics.ranks", "a fluid coupled to a structure runs on one rank so far");
     if (!resume.empty()) c.fail("numerics.ranks", "a run on " + n + " cannot be resumed from a checkpoint yet");
     for (const auto* b : {&c.get().boundaries().y_min(), &c.get().boundaries().y_max()})
@@ -480,6 +483,7 @@ void divide(const CaseFile& c, RunPlan& p, Ranks& ranks, FluidSolver& solver, bo
         c.fail("numerics.ranks", e.what());
     }
     solver.divide(&ranks);
+    ranks.watch(c.get().numerics().rank_wait_seconds(), &stop_requested);
     if (p.checkpoint_seconds > 0)
         log << "undex-fluid: no checkpoints on " << n << " (output.checkpoint_seconds ignored)" << std::endl;
     p.checkpoint_seconds = 0;

@@ -3,7 +3,9 @@
 #   1 rank × 1 thread, 2 ranks × 1 thread, 1 rank × 2 threads,
 # alternated, `runs` times each; prints each run's wall time (the fluid's own "done" line: the run loop,
 # without MPI's start-up), the medians, the ratios against one rank and the load of the host before each
-# run (the figure counts only on an otherwise idle machine). Every run's fields are compared with the first
+# run (the figure counts only on an otherwise idle machine), and per round the host's own two-core ceiling:
+# a fixed CPU-bound loop alone and two copies at once (this VM's second core has phases in which it gives far
+# less than a core; a speed-up is read against that ceiling). Every run's fields are compared with the first
 # one-rank run's, bit for bit (the scaling of a wrong answer is worth nothing).
 #   bash tests/bench/ranks.sh [BUILD] [CASE] [n] [t_end] [runs] [--set ...]
 # Defaults: build, cases/riemann_2d.case, 400, 0.02, 3.
@@ -24,8 +26,20 @@ one() { # RANKS THREADS TAG: prints the wall time
     if [ "$2" -gt 1 ]; then cmd=(env OMP_PROC_BIND=false "${cmd[@]}"); fi
     "${cmd[@]}" | sed -n 's/.*done: \([0-9]*\) steps, wall \([0-9.]*\) s.*/\2/p'
 }
+ceiling() { # the work of two copies of a CPU-bound loop run at once over the work of one, in the same time
+    local spin='import time
+t = time.time()
+s = 0
+for i in range(20_000_000): s += i
+print(time.time() - t)'
+    local one two
+    one=$(/usr/bin/python3 -c "$spin")
+    two=$( (/usr/bin/python3 -c "$spin" & /usr/bin/python3 -c "$spin"; wait) | sort -g | tail -1)
+    awk -v a="$one" -v b="$two" 'BEGIN { printf "%.2f", 2 * a / b }'
+}
 declare -A wall
 for k in $(seq "$runs"); do
+    echo "round $k: host ceiling $(ceiling)x (two CPU-bound loops at once against one)"
     for config in "1 1" "2 1" "1 2"; do
         set -- $config
         load=$(cut -d' ' -f1 /proc/loadavg)

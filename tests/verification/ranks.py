@@ -17,14 +17,20 @@ Runs (one thread per rank; 4 ranks oversubscribe this host's 2 cores):
 Faults and refusals, on 2 ranks:
   a state the method cannot hold in one rank's rows (positivity and limiter off on a strong jump): exit
     status 2 with a message naming the rank, the cell and the step, the output kept with the last good state;
+  rank 1 killed (SIGKILL) during case 4.4 at 400 x 400: the run ends within 60 s with a message naming
+    rank 1 and the step, fluid.h5 readable with the outputs written before;
+  rank 1 frozen (SIGSTOP: a hang) with numerics.rank_wait_seconds=3: rank 0 ends the run with exit status 3
+    and a message naming rank 1 and the step, fluid.h5 readable;
   a case the ranks cannot run yet (1D) is refused before anything is written, naming numerics.ranks.
 
     ranks.py BIN_DIR CASES_DIR WORK_DIR
 """
 import os
 import shutil
+import signal
 import subprocess
 import sys
+import time
 
 import h5py
 import numpy as np
@@ -115,6 +121,79 @@ for tag, sets, counts in (("bubble", bubble, (1, 2, 4)), ("bubble_paper", paper,
             print(log)
     for n in counts[1:]:
         same("case 4.4 (%s) on %d ranks" % (tag, n), "%s_1" % tag, "%s_%d" % (tag, n))
+
+
+
+def rank_pid(rank, tag):
+    """The PID of the fluid's rank `rank` of the run writing to work/tag (by its MPI environment)."""
+    for pid in os.listdir("/proc"):
+        try:
+            with open("/proc/%s/cmdline" % pid, "rb") as f:
+                cmd = f.read()
+            if b"undex-fluid" not in cmd or os.path.join(work, tag).encode() not in cmd:
+                continue
+            with open("/proc/%s/environ" % pid, "rb") as f:
+                if ("OMPI_COMM_WORLD_RANK=%d" % rank).encode() in f.read().split(b"\0"):
+                    return int(pid)
+        except OSError:
+            continue
+    return None
+
+
+def fault(tag, sig, sets):
+    """Case 4.4 at 400 x 400 on 2 ranks; once its first output is written, `sig` to rank 1."""
+    args = [os.path.join(bin_dir, "undex"), "run", os.path.join(cases, "free_field_2d.case"), "-o",
+            os.path.join(work, tag), "--ranks", "2", "--set", "numerics.threads=1"]
+    for s in sets:
+        args += ["--set", s]
+    p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    start = time.time()
+    pid = None
+    while time.time() - start < 60 and p.poll() is None:
+        pid = rank_pid(1, tag)
+        if pid and os.path.exists(os.path.join(work, tag, "fluid.xmf")) and time.time() - start > 2:
+            break
+        time.sleep(0.1)
+    if pid and p.poll() is None:
+        os.kill(pid, sig)
+    sent = time.time()
+    try:
+        out, _ = p.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        out, _ = p.communicate()
+        subprocess.run(["pkill", "-9", "-f", os.path.join(work, tag)])
+        return -1, out + " (timed out)", 1e9
+    if pid:
+        try:
+            os.kill(pid, signal.SIGKILL)  # a frozen rank left behind, if any
+        except OSError:
+            pass
+    return p.returncode, out, time.time() - sent
+
+
+def readable(tag):
+    try:
+        with h5py.File(os.path.join(work, tag, "fluid.h5"), "r") as f:
+            g = f["fields"][sorted(f["fields"])[-1]]
+            return len(f["fields"]) >= 1 and np.isfinite(g["p"][()]).all()
+    except (OSError, KeyError):
+        return False
+
+
+status, log, took = fault("killed", signal.SIGKILL, [])
+print(log)
+check("rank 1 killed: the run ends (status %d) in %.1f s" % (status, took), status not in (0, -1) and took < 60)
+check("rank 1 killed: the message names rank 1 and the step", "rank 1 " in log and " in step " in log)
+check("rank 1 killed: fluid.h5 readable with the outputs written before", readable("killed"))
+
+status, log, took = fault("hung", signal.SIGSTOP, ["numerics.rank_wait_seconds=3"])
+print(log)
+check("rank 1 hangs: rank 0 ends the run with status 3 (got %d) in %.1f s" % (status, took),
+      status == 3 and took < 30)
+check("rank 1 hangs: the message names rank 1 and the step",
+      "fluid rank 0 has waited 3 s on rank 1" in log and " in step " in log)
+check("rank 1 hangs: fluid.h5 readable with the outputs written before", readable("hung"))
 
 status, log = run("sod_1d.case", "refused", 2, [])
 check("1D on 2 ranks: refused naming numerics.ranks (exit status %d)" % status,
