@@ -167,6 +167,14 @@ int dispatch(const SolverCommands& c, Request& r) {
 
 } // namespace
 
+// Where an error every rank meets alike (the command line, the case) is told: stderr of the first MPI rank
+// (mpirun sets OMPI_COMM_WORLD_RANK) or of the one process, not once per rank.
+static std::ostream& once() {
+    static std::ostream quiet(nullptr);
+    const char* rank = std::getenv("OMPI_COMM_WORLD_RANK");
+    return !rank || std::string(rank) == "0" ? std::cerr : quiet;
+}
+
 int solver_main(int argc, char** argv, const SolverCommands& c) {
     protect_standard_streams();
     CLI::App app(c.description, c.name);
@@ -180,16 +188,16 @@ int solver_main(int argc, char** argv, const SolverCommands& c) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::cerr << c.name << ": error: " << e.what() << "\n" << hint << "\n";
+        once() << c.name << ": error: " << e.what() << "\n" << hint << "\n";
         return exit_usage;
     }
     try {
         return dispatch(c, r);
     } catch (const UsageError& e) {
-        std::cerr << c.name << ": error: " << e.what() << "\n" << hint << "\n";
+        once() << c.name << ": error: " << e.what() << "\n" << hint << "\n";
         return exit_usage;
     } catch (const CaseError& e) {
-        std::cerr << c.name << ": error: " << e.what() << "\n";
+        once() << c.name << ": error: " << e.what() << "\n";
         return exit_bad_case;
     } catch (const std::exception& e) {
         for (const auto& f : c.failures)
