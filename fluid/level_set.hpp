@@ -94,6 +94,7 @@ class LevelSet {
     // One TVD-RK3 step of φ_t + w·∇φ = 0, each derivative upwinded by the sign of its velocity component.
     // In a tube, w must vanish outside it; the tube follows φ afterwards.
     void advect(const std::vector<double>& wx, const std::vector<double>& wy, double dt) {
+        own_cells();
         rk3(dt, [&](const std::vector<double>& phi, std::vector<double>& rate) {
             fill_padded(phi);
             const long n = static_cast<long>(work_->size());
@@ -127,9 +128,8 @@ class LevelSet {
         const double dtau = 0.3 * (dim_ == 2 ? std::min(dx_, dy_) : dx_);
         std::vector<double>& sign0 = sign0_;
         sign0.resize(phi_.size());
-        const long n = static_cast<long>(near_.size());
-        for (long k = 0; k < n; ++k) {
-            const int c = near_[k];
+        own_cells();
+        for (const int c : *work_) {
             const std::array<double, 2> g = gradient(c % nx_, c / nx_);
             const double r = std::sqrt(phi_[c] * phi_[c] + (g[0] * g[0] + g[1] * g[1]) * h * h);
             sign0[c] = r > 0 ? phi_[c] / r : 0.0;
@@ -149,6 +149,7 @@ class LevelSet {
                 }
             });
         rebuild_tube(false);
+        work_ = &near_;
     }
 
     // Constant extrapolation I_τ + S(φ) n·∇I = 0 (paper eq. 33) into the unknown cells of the band
@@ -381,6 +382,8 @@ class LevelSet {
     // values a stencil of near_ reads (corner ghosts are never read).
     void fill_padded(const std::vector<double>& phi) {
         if (tube_cells_ > 0) {
+            // On many ranks the rows the rates of this rank's cells read only.
+            const int ja = ranks_ ? ranks_->begin() - G : 0, jb = ranks_ ? ranks_->end() + G : ny_;
             const long n = static_cast<long>(reads_.size());
             auto value = [&](int i, int j) {
                 const int k = j * nx_ + i;
@@ -389,6 +392,7 @@ class LevelSet {
 #pragma omp parallel for
             for (long m = 0; m < n; ++m) {
                 const int c = reads_[m], i = c % nx_, j = c / nx_;
+                if (j < ja || j >= jb) continue;
                 const double v = phi[c];
                 double* q = &pad_[padded(i, j)];
                 q[0] = v;
@@ -461,24 +465,27 @@ class LevelSet {
         return std::max(l * l, r * r);
     }
 
-    // Shu–Osher TVD-RK3 on phi_ with the rate L(φ) computed by `rate_of(φ, L)`.
-    // The rate is needed on near_ only, and changes φ there; in a tube the stage holds φ on reads_ beyond.
-    // On many ranks each rank updates its own cells of near_ and gathers the others' (gather_stage).
+    // The cells of near_ this rank computes (work_) and how many each rank computes, for the rk3 that follow.
+    void own_cells() {
+        work_ = &near_;
+        if (!ranks_) return;
+        own_.clear();
+        count_.assign(ranks_->size(), 0);
+        for (const int c : near_) {
+            const int r = owner_[c / nx_];
+            ++count_[r];
+            if (r == ranks_->rank()) own_.push_back(c);
+        }
+        work_ = &own_;
+    }
+    // Shu–Osher TVD-RK3 on phi_ with the rate L(φ) computed by `rate_of(φ, L)` over the cells of work_
+    // (own_cells). The rate is needed on near_ only, and changes φ there; in a tube the stage holds φ on
+    // reads_ beyond. On many ranks each rank updates its own cells of near_ and gathers the others'
+    // (gather_stage).
     template <class Rate> void rk3(double dt, Rate&& rate_of) {
         const size_t n = phi_.size();
         stage_.resize(n);
         rate_.resize(n);
-        work_ = &near_;
-        if (ranks_) {
-            own_.clear();
-            count_.assign(ranks_->size(), 0);
-            for (const int c : near_) {
-                const int r = owner_[c / nx_];
-                ++count_[r];
-                if (r == ranks_->rank()) own_.push_back(c);
-            }
-            work_ = &own_;
-        }
         const long m = static_cast<long>(work_->size());
         const int* cells = work_->data();
         rate_of(phi_, rate_);
@@ -505,7 +512,6 @@ class LevelSet {
             phi_[c] = (phi_[c] + 2.0 * (stage_[c] + dt * rate_[c])) / 3.0;
         }
         gather_stage(phi_);
-        work_ = &near_;
     }
     // Many ranks: every rank's values of its own cells of near_ (listed in the order of near_) into v.
     void gather_stage(std::vector<double>& v) {
