@@ -21,7 +21,8 @@ Faults and refusals, on 2 ranks:
     rank 1 and the step, fluid.h5 readable with the outputs written before;
   rank 1 frozen (SIGSTOP: a hang) with numerics.rank_wait_seconds=3: rank 0 ends the run with exit status 3
     and a message naming rank 1 and the step, fluid.h5 readable;
-  a case the ranks cannot run yet (1D) is refused before anything is written, naming numerics.ranks.
+  a case the ranks cannot run yet (1D) is refused before anything is written, naming numerics.ranks, and
+    the error is told once (by rank 0), not once per rank.
 
     ranks.py BIN_DIR CASES_DIR WORK_DIR
 """
@@ -198,6 +199,8 @@ check("rank 1 hangs: fluid.h5 readable with the outputs written before", readabl
 status, log = run("sod_1d.case", "refused", 2, [])
 check("1D on 2 ranks: refused naming numerics.ranks (exit status %d)" % status,
       status != 0 and "numerics.ranks" in log and not os.path.exists(os.path.join(work, "refused", "fluid.h5")))
+check("1D on 2 ranks: the case error told once, not once per rank (%d times)" % log.count("numerics.ranks:"),
+      log.count("numerics.ranks:") == 1)
 
 print("%d failed" % len(failures))
 sys.exit(1 if failures else 0)
