@@ -102,32 +102,37 @@ class TwoFluid final : public FluidSolver {
     void step(double dt) override {
         treat_interface();
         phi_.save(phi_before_);
-        // On many ranks both fluids step even when the first fails: the other ranks' steps wait on this
-        // rank's exchanges.
+        const long step = steps() + 1; // the same on every rank, whichever fluid fails where
+        // On many ranks a rank whose fluid fails still takes part in every exchange and gather of the step,
+        // which the other ranks wait on, and then takes the step back.
         std::optional<SolverFailure> failure;
-        try {
-            minus_.step(dt);
-        } catch (const SolverFailure& f) {
-            failure = SolverFailure(names_[0] + ": " + f.what());
-            if (!ranks_) throw *failure;
+        bool stepped[2] = {false, false};
+        auto fluid_step = [&](auto& scheme, int f) {
+            if (failure && !ranks_) return;
+            try {
+                scheme.step(dt);
+                stepped[f] = true;
+            } catch (const SolverFailure& e) {
+                if (!failure) failure = SolverFailure(names_[f] + ": " + e.what());
+            }
+        };
+        fluid_step(minus_, 0);
+        fluid_step(plus_, 1);
+        if (!failure || ranks_) {
+            phi_.advect(wx_, wy_, dt);
+            if (set_.reinit_every > 0 && step % set_.reinit_every == 0)
+                phi_.reinitialise(set_.reinit_iterations);
+            update_masks(phi_.tube());
         }
-        try {
-            plus_.step(dt);
-        } catch (const SolverFailure& f) {
-            if (!failure) {
-                minus_.revert_step();
-                throw SolverFailure(names_[1] + ": " + f.what());
+        if (failure) {
+            if (stepped[0]) minus_.revert_step();
+            if (stepped[1]) plus_.revert_step();
+            if (ranks_) {
+                phi_.restore(phi_before_);
+                update_masks();
             }
             throw *failure;
         }
-        if (failure) {
-            plus_.revert_step();
-            throw *failure;
-        }
-        phi_.advect(wx_, wy_, dt);
-        if (set_.reinit_every > 0 && minus_.steps() % set_.reinit_every == 0)
-            phi_.reinitialise(set_.reinit_iterations);
-        update_masks(phi_.tube());
     }
 
     // Takes back the last step (used when the fluid of another wet face fails in the same step): the state

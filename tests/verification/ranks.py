@@ -17,6 +17,9 @@ Runs (one thread per rank; 4 ranks oversubscribe this host's 2 cores):
 Faults and refusals, on 2 ranks:
   a state the method cannot hold in one rank's rows (positivity and limiter off on a strong jump): exit
     status 2 with a message naming the rank, the cell and the step, the output kept with the last good state;
+  case 4.4 at 64 x 64 with the bubble in rank 1's rows (y = 0.5, r = 0.3, 1e11 Pa; positivity and limiter
+    off): the water fails in rank 1's rows in step 45, every rank ends with status 2, and fluid.h5 (the last
+    good state included) is bitwise the one-rank run's, which fails alike;
   rank 1 killed (SIGKILL) during case 4.4 at 400 x 400: the run ends within 60 s with a message naming
     rank 1 and the step, fluid.h5 readable with the outputs written before;
   rank 1 frozen (SIGSTOP: a hang) with numerics.rank_wait_seconds=3: rank 0 ends the run with exit status 3
@@ -181,6 +184,16 @@ def readable(tag):
     except (OSError, KeyError):
         return False
 
+
+burst = ["domain.cells_x=64", "domain.cells_y=64", "numerics.positivity=false", "numerics.indicator=none",
+         "regions[1].ball.y=0.5", "regions[1].ball.radius=0.3", "regions[1].p=1e11"]
+for n in (1, 2):
+    status, log = run("free_field_2d.case", "burst_%d" % n, n, burst)
+    check("two fluids failing on %d rank(s): exit status 2 (got %d)" % (n, status), status == 2)
+    if n == 2:
+        print(log)
+        check("two fluids failing on 2 ranks: rank 1's water, named", "fluid rank 1: water: " in log)
+same("two fluids failing on 2 ranks (the last good state)", "burst_1", "burst_2")
 
 status, log, took = fault("killed", signal.SIGKILL, [])
 print(log)
