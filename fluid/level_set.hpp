@@ -97,8 +97,8 @@ class LevelSet {
         own_cells();
         rk3(dt, [&](const std::vector<double>& phi, std::vector<double>& rate) {
             fill_padded(phi);
-            const long n = static_cast<long>(work_->size());
-            const int* cells = work_->data();
+            const long n = static_cast<long>(work().size());
+            const int* cells = work().data();
 #pragma omp parallel for if (dim_ == 2)
             for (long k = 0; k < n; ++k) {
                 const int c = cells[k], i = c % nx_, j = c / nx_, p = padded(i, j);
@@ -129,7 +129,7 @@ class LevelSet {
         std::vector<double>& sign0 = sign0_;
         sign0.resize(phi_.size());
         own_cells();
-        for (const int c : *work_) {
+        for (const int c : work()) {
             const std::array<double, 2> g = gradient(c % nx_, c / nx_);
             const double r = std::sqrt(phi_[c] * phi_[c] + (g[0] * g[0] + g[1] * g[1]) * h * h);
             sign0[c] = r > 0 ? phi_[c] / r : 0.0;
@@ -137,8 +137,8 @@ class LevelSet {
         for (int it = 0; it < iterations; ++it)
             rk3(dtau, [&](const std::vector<double>& phi, std::vector<double>& rate) {
                 fill_padded(phi);
-                const long w = static_cast<long>(work_->size());
-                const int* cells = work_->data();
+                const long w = static_cast<long>(work().size());
+                const int* cells = work().data();
 #pragma omp parallel for if (dim_ == 2)
                 for (long k = 0; k < w; ++k) {
                     const int c = cells[k], p = padded(c % nx_, c / nx_);
@@ -149,7 +149,6 @@ class LevelSet {
                 }
             });
         rebuild_tube(false);
-        work_ = &near_;
     }
 
     // Constant extrapolation I_τ + S(φ) n·∇I = 0 (paper eq. 33) into the unknown cells of the band
@@ -272,11 +271,12 @@ class LevelSet {
     int tube_cells_ = 0;
     std::vector<int> tube_, near_, reads_;
     std::vector<char> mark_;
-    // Many ranks (divide): the rank of each row; in rk3, the cells of near_ this rank computes (own_), how
-    // many each rank computes, and the cells a rate is computed for (work_: own_, or near_ on one rank).
+    // Many ranks (divide): the rank of each row; in rk3, the cells of near_ this rank computes (own_) and
+    // how many each rank computes.
     const Ranks* ranks_ = nullptr;
     std::vector<int> owner_, own_, count_;
-    const std::vector<int>* work_ = &near_;
+    // The cells a rate is computed for (after own_cells): this rank's own, or near_ on one rank.
+    const std::vector<int>& work() const { return ranks_ ? own_ : near_; }
 
   public:
     // φ over reads_ and the lists, enough to take back one step of advection and reinitialisation (which
@@ -465,9 +465,9 @@ class LevelSet {
         return std::max(l * l, r * r);
     }
 
-    // The cells of near_ this rank computes (work_) and how many each rank computes, for the rk3 that follow.
+    // The cells of near_ this rank computes (work()) and how many each rank computes, for the rk3 that
+    // follow.
     void own_cells() {
-        work_ = &near_;
         if (!ranks_) return;
         own_.clear();
         count_.assign(ranks_->size(), 0);
@@ -476,9 +476,8 @@ class LevelSet {
             ++count_[r];
             if (r == ranks_->rank()) own_.push_back(c);
         }
-        work_ = &own_;
     }
-    // Shu–Osher TVD-RK3 on phi_ with the rate L(φ) computed by `rate_of(φ, L)` over the cells of work_
+    // Shu–Osher TVD-RK3 on phi_ with the rate L(φ) computed by `rate_of(φ, L)` over the cells of work()
     // (own_cells). The rate is needed on near_ only, and changes φ there; in a tube the stage holds φ on
     // reads_ beyond. On many ranks each rank updates its own cells of near_ and gathers the others'
     // (gather_stage).
@@ -486,8 +485,8 @@ class LevelSet {
         const size_t n = phi_.size();
         stage_.resize(n);
         rate_.resize(n);
-        const long m = static_cast<long>(work_->size());
-        const int* cells = work_->data();
+        const long m = static_cast<long>(work().size());
+        const int* cells = work().data();
         rate_of(phi_, rate_);
         if (tube_cells_ > 0)
             for (const int c : reads_)
