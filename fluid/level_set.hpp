@@ -82,6 +82,32 @@ class LevelSet {
     }
     // Many ranks: the rank that solves each row (empty on one).
     const std::vector<int>& row_owner() const { return owner_; }
+    // Many ranks: the values of `fields` (per interior cell) in the cells of near_tube() of this rank's rows
+    // to every rank, and theirs into this rank's (one MPI_Allgatherv, listed in the order of near_tube()).
+    void gather_near(const std::vector<double*>& fields) const {
+        if (!ranks_) return;
+        const int me = ranks_->rank(), nf = static_cast<int>(fields.size());
+        std::vector<int> count(ranks_->size(), 0);
+        std::vector<double> mine;
+        for (const int c : near_) {
+            const int r = owner_[c / nx_];
+            count[r] += nf;
+            if (r == me)
+                for (const double* f : fields)
+                    mine.push_back(f[c]);
+        }
+        const std::vector<double> all = ranks_->gather_all(mine, count);
+        std::vector<long> at(ranks_->size(), 0);
+        for (int r = 1; r < ranks_->size(); ++r)
+            at[r] = at[r - 1] + count[r - 1];
+        for (const int c : near_) {
+            const int r = owner_[c / nx_];
+            if (r != me)
+                for (int f = 0; f < nf; ++f)
+                    fields[f][c] = all[at[r] + f];
+            at[r] += nf;
+        }
+    }
 
     // Unit normal ∇φ/|∇φ| by central differences, one-sided at the domain edges; {1, 0} if ∇φ vanishes.
     std::array<double, 2> normal(int i, int j) const {
@@ -271,10 +297,9 @@ class LevelSet {
     int tube_cells_ = 0;
     std::vector<int> tube_, near_, reads_;
     std::vector<char> mark_;
-    // Many ranks (divide): the rank of each row; in rk3, the cells of near_ this rank computes (own_) and
-    // how many each rank computes.
+    // Many ranks (divide): the rank of each row; in rk3, the cells of near_ this rank computes (own_).
     const Ranks* ranks_ = nullptr;
-    std::vector<int> owner_, own_, count_;
+    std::vector<int> owner_, own_;
     // The cells a rate is computed for (after own_cells): this rank's own, or near_ on one rank.
     const std::vector<int>& work() const { return ranks_ ? own_ : near_; }
 
@@ -465,22 +490,17 @@ class LevelSet {
         return std::max(l * l, r * r);
     }
 
-    // The cells of near_ this rank computes (work()) and how many each rank computes, for the rk3 that
-    // follow.
+    // The cells of near_ this rank computes (work()), for the rk3 that follow.
     void own_cells() {
         if (!ranks_) return;
         own_.clear();
-        count_.assign(ranks_->size(), 0);
-        for (const int c : near_) {
-            const int r = owner_[c / nx_];
-            ++count_[r];
-            if (r == ranks_->rank()) own_.push_back(c);
-        }
+        for (const int c : near_)
+            if (owner_[c / nx_] == ranks_->rank()) own_.push_back(c);
     }
     // Shu–Osher TVD-RK3 on phi_ with the rate L(φ) computed by `rate_of(φ, L)` over the cells of work()
     // (own_cells). The rate is needed on near_ only, and changes φ there; in a tube the stage holds φ on
     // reads_ beyond. On many ranks each rank updates its own cells of near_ and gathers the others'
-    // (gather_stage).
+    // (gather_near).
     template <class Rate> void rk3(double dt, Rate&& rate_of) {
         const size_t n = phi_.size();
         stage_.resize(n);
@@ -496,34 +516,21 @@ class LevelSet {
             const int c = cells[k];
             stage_[c] = phi_[c] + dt * rate_[c];
         }
-        gather_stage(stage_);
+        gather_near({stage_.data()});
         rate_of(stage_, rate_);
 #pragma omp parallel for if (dim_ == 2)
         for (long k = 0; k < m; ++k) {
             const int c = cells[k];
             stage_[c] = 0.75 * phi_[c] + 0.25 * (stage_[c] + dt * rate_[c]);
         }
-        gather_stage(stage_);
+        gather_near({stage_.data()});
         rate_of(stage_, rate_);
 #pragma omp parallel for if (dim_ == 2)
         for (long k = 0; k < m; ++k) {
             const int c = cells[k];
             phi_[c] = (phi_[c] + 2.0 * (stage_[c] + dt * rate_[c])) / 3.0;
         }
-        gather_stage(phi_);
-    }
-    // Many ranks: every rank's values of its own cells of near_ (listed in the order of near_) into v.
-    void gather_stage(std::vector<double>& v) {
-        if (!ranks_) return;
-        std::vector<double> mine(own_.size());
-        for (size_t k = 0; k < own_.size(); ++k)
-            mine[k] = v[own_[k]];
-        const std::vector<double> all = ranks_->gather_all(mine, count_);
-        std::vector<long> at(ranks_->size(), 0);
-        for (int r = 1; r < ranks_->size(); ++r)
-            at[r] = at[r - 1] + count_[r - 1];
-        for (const int c : near_)
-            v[c] = all[at[owner_[c / nx_]]++];
+        gather_near({phi_.data()});
     }
 };
 

@@ -125,8 +125,8 @@ void Ranks::divide(const std::vector<double>& cost, int min_rows) {
     const int ny = static_cast<int>(cost.size());
     if (ny < size_ * min_rows)
         throw std::invalid_argument(std::to_string(ny) + " rows cannot be divided into " +
-                                    std::to_string(size_) + " blocks of at least " + std::to_string(min_rows) +
-                                    " rows (the halo): use fewer ranks");
+                                    std::to_string(size_) + " blocks of at least " +
+                                    std::to_string(min_rows) + " rows (the halo): use fewer ranks");
     std::vector<double> prefix(ny + 1, 0.0);
     for (int j = 0; j < ny; ++j)
         prefix[j + 1] = prefix[j] + cost[j];
@@ -158,7 +158,8 @@ template <class T> void Ranks::exchange_rows(T* rows, long row, int depth) const
     if (size_ == 1 || depth <= 0) return;
     // Padded row r = j + 1: the block is padded rows [begin + 1, end + 1).
     const long b = begin() + 1, e = end() + 1, n = row * depth;
-    const int down = rank_ > 0 ? rank_ - 1 : MPI_PROC_NULL, up = rank_ + 1 < size_ ? rank_ + 1 : MPI_PROC_NULL;
+    const int down = rank_ > 0 ? rank_ - 1 : MPI_PROC_NULL;
+    const int up = rank_ + 1 < size_ ? rank_ + 1 : MPI_PROC_NULL;
     MPI_Request q[4];
     MPI_Irecv(rows + (b - depth) * row, n, type<T>(), down, 1, MPI_COMM_WORLD, &q[0]);
     MPI_Irecv(rows + e * row, n, type<T>(), up, 2, MPI_COMM_WORLD, &q[1]);

@@ -473,7 +473,8 @@ void divide(const CaseFile& c, RunPlan& p, Ranks& ranks, FluidSolver& solver, bo
         c.fail("numerics.ranks",
                "the fluid runs on " + n + " only in 2D without a structure so far; run it on one");
     if (coupled) c.fail("numerics.ranks", "a fluid coupled to a structure runs on one rank so far");
-    if (!resume.empty()) c.fail("numerics.ranks", "a run on " + n + " cannot be resumed from a checkpoint yet");
+    if (!resume.empty())
+        c.fail("numerics.ranks", "a run on " + n + " cannot be resumed from a checkpoint yet");
     for (const auto* b : {&c.get().boundaries().y_min(), &c.get().boundaries().y_max()})
         if (b->type() == config::Boundary::PERIODIC)
             c.fail("boundaries", "periodic y boundaries are not divided among ranks yet: run on one");
@@ -535,8 +536,8 @@ int run(const CaseFile& c, std::ostream& root_log, const std::string& couple, co
             << ", t = " << format("%.9g", start.time) << " s)" << std::endl;
     }
     auto link = coupled ? std::make_unique<StructureLink>(p, couple, *solver, log, start) : nullptr;
-    FluidRun r(c, p, std::move(solver), std::move(link), from ? &*from : nullptr, ranks.many() ? &ranks : nullptr,
-               log);
+    FluidRun r(c, p, std::move(solver), std::move(link), from ? &*from : nullptr,
+               ranks.many() ? &ranks : nullptr, log);
     const int status = drive(r, p, "undex-fluid", log);
     // The root's status is the run's: mpirun ends every rank as soon as one exits with another than 0, and
     // the root may still be writing the last good state.

@@ -168,8 +168,8 @@ class TwoFluid final : public FluidSolver {
     // Many ranks (fluid/ranks.hpp): both fluids solve the rows of this rank's block, and the level set's
     // rates are computed by the rank of each row (LevelSet::divide). Every rank holds the whole φ, the
     // masks and the ghost bands, bit for bit the same: the interface treatment is every rank's, over the
-    // whole tube, from the cell averages near it gathered from their owners (share_fields). Its work grows
-    // with the interface's length, not with the mesh (docs/scale_out.md).
+    // whole tube, from the cell averages near it gathered from their owners (LevelSet::gather_near). Its
+    // work grows with the interface's length, not with the mesh (docs/scale_out.md).
     bool divisible() const override { return D == 2; }
     void divide(const Ranks* r) override {
         ranks_ = r && r->many() ? r : nullptr;
@@ -331,7 +331,8 @@ class TwoFluid final : public FluidSolver {
     Fields fm_, fp_; // the minus and plus fluid's (work arrays, as un_)
 
     // The cells near the level set's tube (all cells without one) are written: the interface treatment
-    // reads no other. On many ranks the states of this rank's rows only (share_fields brings the others).
+    // reads no other. On many ranks the states of this rank's rows only (LevelSet::gather_near brings the
+    // others').
     template <class S> void read_fields(const S& scheme, bool minus, Fields& f) const {
         const size_t n = static_cast<size_t>(mesh_.nx) * mesh_.ny;
         for (auto* a : {&f.rho, &f.u, &f.v, &f.p})
@@ -348,35 +349,6 @@ class TwoFluid final : public FluidSolver {
             f.rho[k] = w.rho, f.u[k] = w.u, f.v[k] = w.v, f.p[k] = w.p;
         }
     }
-    // Many ranks: the states near the tube of every rank's rows to every rank (one MPI_Allgatherv), listed
-    // by each owner in the order of near_tube().
-    void share_fields(Fields& fm, Fields& fp) const {
-        if (!ranks_) return;
-        const std::vector<int>& cells = phi_.near_tube();
-        const int me = ranks_->rank();
-        std::vector<int> count(ranks_->size(), 0);
-        std::vector<double> mine;
-        for (const int k : cells) {
-            const int r = phi_.row_owner()[k / mesh_.nx];
-            count[r] += 8;
-            if (r == me)
-                mine.insert(mine.end(),
-                            {fm.rho[k], fm.u[k], fm.v[k], fm.p[k], fp.rho[k], fp.u[k], fp.v[k], fp.p[k]});
-        }
-        const std::vector<double> all = ranks_->gather_all(mine, count);
-        std::vector<long> at(ranks_->size(), 0);
-        for (int r = 1; r < ranks_->size(); ++r)
-            at[r] = at[r - 1] + count[r - 1];
-        for (const int k : cells) {
-            const int r = phi_.row_owner()[k / mesh_.nx];
-            const double* q = all.data() + at[r];
-            at[r] += 8;
-            if (r == me) continue;
-            fm.rho[k] = q[0], fm.u[k] = q[1], fm.v[k] = q[2], fm.p[k] = q[3];
-            fp.rho[k] = q[4], fp.u[k] = q[5], fp.v[k] = q[6], fp.p[k] = q[7];
-        }
-    }
-
     // Weighted mean of the other fluid's real states around cell (i, j), favouring the cells that lie
     // across the interface along the normal (sign +1: towards φ > 0).
     bool across(const Fields& other, int i, int j, const std::array<double, 2>& n, double sign,
@@ -504,7 +476,9 @@ class TwoFluid final : public FluidSolver {
         Fields &fm = fm_, &fp = fp_;
         read_fields(minus_, true, fm);
         read_fields(plus_, false, fp);
-        share_fields(fm, fp);
+        // Many ranks: the states near the tube of the other ranks' rows.
+        phi_.gather_near({fm.rho.data(), fm.u.data(), fm.v.data(), fm.p.data(), fp.rho.data(),
+                          fp.u.data(), fp.v.data(), fp.p.data()});
         std::vector<double>& un = un_;
         std::vector<char>& un_known = un_known_;
         un.resize(n);
