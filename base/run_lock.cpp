@@ -1,5 +1,7 @@
 #include "base/run_lock.hpp"
 
+#include "base/signals.hpp"
+
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/file.h>
@@ -73,6 +75,14 @@ long gone_holder(const std::string& text) {
     return kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH ? pid : 0;
 }
 
+// Whether a held lock is that of the launcher that started this solver through mpirun, which does not
+// pass the descriptor on (inherited): the lock names the launcher's pid (launcher_pid_env) on this host.
+bool held_by_launcher(const std::string& text) {
+    const char* launcher = std::getenv(launcher_pid_env);
+    auto f = fields_of(text);
+    return launcher && *launcher && f["pid"] == launcher && f["host"] == host_name();
+}
+
 std::string utc_now() {
     const std::time_t t = std::time(nullptr);
     std::tm tm{};
@@ -136,6 +146,7 @@ void RunLock::take(const std::filesystem::path& dir, std::string command, bool f
             const std::string text = read_text(fd_);
             close(fd_), fd_ = -1;
             if (err != EWOULDBLOCK) throw RunLockError(error_text("cannot lock " + path_, err));
+            if (held_by_launcher(text)) return; // the launcher holds it for this run
             std::string msg =
                 "output directory " + dir.string() + " is in use by another run: " + holder_of(text);
             if (const long pid = gone_holder(text))

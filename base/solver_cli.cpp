@@ -202,7 +202,8 @@ int solver_main(int argc, char** argv, const SolverCommands& c) {
     } catch (const std::exception& e) {
         for (const auto& f : c.failures)
             if (f.matches(e)) {
-                std::cerr << c.name << ": error: " << f.prefix << e.what() << "\n";
+                // Many ranks: a coupling's failure is the root's, relayed to every rank (fluid/run.cpp).
+                once() << c.name << ": error: " << f.prefix << e.what() << "\n";
                 // A wait of the handshake ended by SIGINT, SIGTERM or SIGHUP: stopped, as in the run
                 // (drive()).
                 return stop_requested() ? exit_stopped : f.status;

@@ -37,6 +37,7 @@ struct Session {
 struct Watch {
     std::atomic<long> since{0}, step{0};
     std::atomic<int> peer[2] = {-1, -1};
+    std::atomic<const char*> what{"a halo exchange"}; // what the wait on peer is
     std::atomic<bool> done{false};
     double limit = 0;
     bool (*stopped)() = nullptr;
@@ -76,7 +77,7 @@ struct Watch {
                 m << "on one of the other ranks (a reduction over all) in step " << step;
             else
                 m << "on rank " << (a >= 0 ? a : b) << (a >= 0 && b >= 0 ? " or " + std::to_string(b) : "")
-                  << " (a halo exchange) in step " << step;
+                  << " (" << what.load() << ") in step " << step;
             m << (signal ? "" : ": it hangs or died") << "; every rank ends";
             std::cerr << m.str() << std::endl;
             std::_Exit(signal ? 4 : 3); // exit_stopped, exit_coupling_failed: mpirun ends the others
@@ -87,11 +88,12 @@ Watch& watch_state() {
     static Watch w;
     return w;
 }
-// A wait under the watch, on ranks a and b (−1: none; both −1: every rank).
+// A wait under the watch, on ranks a and b (−1: none; both −1: every rank), `what` naming it.
 struct Waiting {
-    explicit Waiting(int a = -1, int b = -1) {
+    explicit Waiting(int a = -1, int b = -1, const char* what = "a halo exchange") {
         Watch& w = watch_state();
         w.peer[0] = a, w.peer[1] = b;
+        w.what = what;
         w.since = Watch::now();
     }
     ~Waiting() { watch_state().since = 0; }
@@ -204,13 +206,24 @@ long Ranks::sum(long v) const {
     return s;
 }
 
+// A broadcast from the root waits on it; from another rank (the one that failed), on every rank.
 std::string Ranks::broadcast(const std::string& text, int from) const {
     if (size_ == 1) return text;
     int n = static_cast<int>(text.size());
-    Waiting w;
+    Waiting w(from == 0 && !root() ? 0 : -1, -1, "a broadcast from it");
     MPI_Bcast(&n, 1, MPI_INT, from, MPI_COMM_WORLD);
     std::string out = rank_ == from ? text : std::string(n, '\0');
     MPI_Bcast(out.data(), n, MPI_CHAR, from, MPI_COMM_WORLD);
+    return out;
+}
+
+std::vector<double> Ranks::broadcast(const std::vector<double>& v, int from) const {
+    if (size_ == 1) return v;
+    long n = static_cast<long>(v.size());
+    Waiting w(from == 0 && !root() ? 0 : -1, -1, "a broadcast from it");
+    MPI_Bcast(&n, 1, MPI_LONG, from, MPI_COMM_WORLD);
+    std::vector<double> out = rank_ == from ? v : std::vector<double>(n);
+    MPI_Bcast(out.data(), static_cast<int>(n), MPI_DOUBLE, from, MPI_COMM_WORLD);
     return out;
 }
 

@@ -43,8 +43,9 @@ class Ranks {
     // order), the sum of integers.
     void max(std::vector<double>& v) const;
     long sum(long v) const;
-    // Rank `from`'s text on every rank.
+    // Rank `from`'s text, or numbers, on every rank.
     std::string broadcast(const std::string& text, int from) const;
+    std::vector<double> broadcast(const std::vector<double>& v, int from) const;
     // Gathers variable-length data to the root (rank order); other ranks get {}.
     std::vector<double> gather(const std::vector<double>& v) const;
     // Every rank's `mine` on every rank, in rank order; count[r]: the length of rank r's (known to all).

@@ -14,6 +14,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <ostream>
@@ -41,23 +43,69 @@ bool coupled_case(const CaseFile& c) {
     return c.get().boundaries().x_max().type() == config::Boundary::STRUCTURE;
 }
 
+// Many ranks: the root talks to the structure, and what it learns reaches every rank (docs/scale_out.md).
+// The root runs `talk`, which returns numbers; every rank gets them, or the root's failure, thrown again on
+// every rank (a RunFailure with its exit status, anything else as a coupling error). One rank: talk().
+std::vector<double> relay(const Ranks* ranks, const std::function<std::vector<double>()>& talk) {
+    if (!ranks) return talk();
+    std::vector<double> v;
+    std::exception_ptr error;
+    double status = 0; // 0: fine, > 0: a RunFailure's exit status, −1: another error
+    std::string why;
+    if (ranks->root()) {
+        try {
+            v = talk();
+        } catch (const RunFailure& f) {
+            error = std::current_exception(), status = f.status, why = f.what();
+        } catch (const std::exception& e) {
+            error = std::current_exception(), status = -1, why = e.what();
+        }
+    }
+    v.push_back(status);
+    v = ranks->broadcast(v, 0);
+    status = v.back();
+    v.pop_back();
+    if (status == 0) return v;
+    why = ranks->broadcast(why, 0);
+    if (error) std::rethrow_exception(error);
+    if (status > 0) throw RunFailure(static_cast<int>(status), why);
+    throw coupling::CouplingError(why);
+}
+
 // The structure, through the coupling library. In 1D its one interface node sits at x_max (physics.md §5);
 // in 2D its wet faces lie inside the fluid domain and move (physics.md §5.1, the solver's WetSolver part).
+// On many ranks (ranks not null) the root talks to the structure, and the wet nodes reach every rank.
 class StructureLink {
   public:
     StructureLink(const RunPlan& p, const std::string& endpoint, FluidSolver& solver, std::ostream& log,
-                  const coupling::Start& start) {
+                  const coupling::Start& start, const Ranks* ranks) {
         const Mesh& m = solver.mesh();
-        const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms, stop_wait};
-        link_ = std::make_unique<coupling::FluidParticipant>(o, "undex-fluid", "0.1.0");
-        log << "undex-fluid: waiting for the structure solver on " << link_->endpoint() << std::endl;
-        const auto iface = link_->initialize(m.dim, m.alpha, p.end_time, start);
+        coupling::Interface iface;
+        const std::vector<double> nodes = relay(ranks, [&] {
+            const coupling::Options o{endpoint, p.coupling_timeout_ms, p.handshake_timeout_ms, stop_wait};
+            link_ = std::make_unique<coupling::FluidParticipant>(o, "undex-fluid", "0.1.0");
+            log << "undex-fluid: waiting for the structure solver on " << link_->endpoint() << std::endl;
+            iface = link_->initialize(m.dim, m.alpha, p.end_time, start);
+            std::vector<double> v(iface.face.begin(), iface.face.end());
+            for (const auto* a : {&iface.x, &iface.y, &iface.normal_x, &iface.normal_y})
+                v.insert(v.end(), a->begin(), a->end());
+            return v;
+        });
+        peer_ = ranks ? ranks->broadcast(link_ ? link_->peer_solver() : "", 0) : link_->peer_solver();
+        if (!link_) { // another rank than the root: the wet nodes as the root received them
+            const long n = static_cast<long>(nodes.size() / 5);
+            auto part = [&](long q) {
+                return std::vector<double>(nodes.begin() + q * n, nodes.begin() + (q + 1) * n);
+            };
+            iface.face.assign(nodes.begin(), nodes.begin() + n);
+            iface.x = part(1), iface.y = part(2), iface.normal_x = part(3), iface.normal_y = part(4);
+        }
         if (m.dim == 1) {
             if (iface.size() != 1)
-                refuse("the structure solver (" + link_->peer_solver() + ") has " +
+                refuse("the structure solver (" + peer_ + ") has " +
                        std::to_string(iface.size()) + " interface nodes; a 1D fluid couples to one");
             if (std::abs(iface.normal_x[0] - 1) > 1e-9)
-                refuse("the structure solver (" + link_->peer_solver() + ") gives its wet face the normal (" +
+                refuse("the structure solver (" + peer_ + ") gives its wet face the normal (" +
                        std::to_string(iface.normal_x[0]) + ", " + std::to_string(iface.normal_y[0]) +
                        "); the fluid lies at x < x_max, so it must be (1, 0)");
             x0_I_ = {iface.x[0]};
@@ -71,22 +119,25 @@ class StructureLink {
             try {
                 wet_->attach(iface.face, iface.x, iface.y, iface.normal_x, iface.normal_y);
             } catch (const std::exception& e) {
-                refuse("the structure solver (" + link_->peer_solver() +
+                refuse("the structure solver (" + peer_ +
                        ") sends wet faces the fluid cannot hold: " + e.what());
             }
             x0_I_ = iface.x, y0_I_ = iface.y;
             log << "undex-fluid: " << wet_->faces().faces() << " wet face(s), " << iface.size()
                 << " wet nodes" << std::endl;
         }
-        log << "undex-fluid: coupled to " << link_->peer_solver() << std::endl;
+        log << "undex-fluid: coupled to " << peer_ << std::endl;
     }
     coupling::FluidParticipant& operator*() { return *link_; }
     coupling::FluidParticipant* operator->() { return link_.get(); }
+    // Whether this rank talks to the structure (one rank, or the root of many).
+    bool talks() const { return link_ != nullptr; }
     double x0_I() const { return x0_I_[0]; }
     WetSolver* wet() const { return wet_; }
 
   private:
-    std::unique_ptr<coupling::FluidParticipant> link_;
+    std::unique_ptr<coupling::FluidParticipant> link_; // null on the ranks but the root
+    std::string peer_;                                  // the structure solver's name
     std::vector<double> x0_I_, y0_I_;
     WetSolver* wet_ = nullptr;
     static std::string box(const Mesh& m) {
@@ -96,13 +147,13 @@ class StructureLink {
     }
     std::string where(const coupling::Interface& i, size_t k) const {
         std::ostringstream s;
-        s << "the structure solver (" << link_->peer_solver() << ") puts wet node " << k << " of face "
+        s << "the structure solver (" << peer_ << ") puts wet node " << k << " of face "
           << i.face[k] << " at (" << i.x[k] << ", " << i.y[k] << "), which";
         return s.str();
     }
     // After the Welcome: the structure is told why.
     [[noreturn]] void refuse(const std::string& why) {
-        link_->fail(why);
+        if (link_) link_->fail(why);
         throw coupling::CouplingError(why);
     }
 };
@@ -148,10 +199,7 @@ class FluidRun : public Run {
     long steps() const override { return solver_->steps(); }
 
     std::optional<Step> next_step(const OutputClock& clock, bool checkpoint_due) override {
-        if (link_ && !timed(coupling_wall_, [&] { return (*link_)->receive_offer(offer_); }))
-            throw RunFailure(exit_coupling_failed, "the structure solver stopped the run at step " +
-                                                       std::to_string((*link_)->step()) + ": " +
-                                                       (*link_)->stop_reason());
+        if (link_) receive_offer();
         at_step_end_ = false; // until the step is taken
         if (link_ && link_->wet()) {
             try {
@@ -201,7 +249,7 @@ class FluidRun : public Run {
     }
     void beat() noexcept {
         try {
-            if (link_) (*link_)->heartbeat();
+            if (talks()) (*link_)->heartbeat();
         } catch (const std::exception&) {
         }
     }
@@ -218,7 +266,7 @@ class FluidRun : public Run {
         // The structure's wait restarts: an output may take a while (a heartbeat before it and between its
         // datasets, at most once a second).
         std::optional<h5::WriteHook> keep_waiting;
-        if (link_) {
+        if (talks()) {
             (*link_)->heartbeat();
             keep_waiting.emplace([this] { (*link_)->heartbeat(); }, 1.0);
         }
@@ -238,7 +286,7 @@ class FluidRun : public Run {
         rebalance();
     }
     void finish() override {
-        if (link_) (*link_)->finalize("end time reached");
+        if (talks()) (*link_)->finalize("end time reached");
     }
     void complete() override {
         root_writes([&] {
@@ -249,7 +297,7 @@ class FluidRun : public Run {
         });
     }
     void fail(const std::string& why) override {
-        if (link_) (*link_)->fail(why); // best effort: the peer learns the cause
+        if (talks()) (*link_)->fail(why); // best effort: the peer learns the cause
         solver_->share();
         if (!root()) return;
         out_->fail(why, [&] {
@@ -291,6 +339,7 @@ class FluidRun : public Run {
     std::vector<Primitive> gauge_values_;
     int divisions_ = 1;
     bool root() const { return !ranks_ || ranks_->root(); }
+    bool talks() const { return link_ && link_->talks(); } // to the structure: the root
     // What the root alone writes. On many ranks a write that fails (a full disk) cannot take the failure
     // path, whose gather needs ranks that are already past the write: it ends every rank at once, saying
     // why; the file keeps the outputs flushed before.
@@ -362,6 +411,25 @@ class FluidRun : public Run {
         s.io("wet_rows", wet_rows_);
     }
     coupling::Offer offer_;
+    // The structure's offer of the next step (on many ranks, relayed from the root).
+    void receive_offer() {
+        const std::vector<double> v = relay(ranks_, [&] {
+            if (!timed(coupling_wall_, [&] { return (*link_)->receive_offer(offer_); }))
+                throw RunFailure(exit_coupling_failed, "the structure solver stopped the run at step " +
+                                                           std::to_string((*link_)->step()) + ": " +
+                                                           (*link_)->stop_reason());
+            if (!ranks_) return std::vector<double>{};
+            std::vector<double> v = {offer_.dt};
+            v.insert(v.end(), offer_.x.begin(), offer_.x.end());
+            v.insert(v.end(), offer_.y.begin(), offer_.y.end());
+            return v;
+        });
+        if (talks()) return;
+        const long n = static_cast<long>(v.size() - 1) / 2;
+        offer_.dt = v[0];
+        offer_.x.assign(v.begin() + 1, v.begin() + 1 + n);
+        offer_.y.assign(v.begin() + 1 + n, v.end());
+    }
     double frame_interval_ = 0; // output.frame_interval (2D), 0: no frames
     int frame_stride_ = 1;      // cells per frame block along each axis
     double next_frame_ = 0;     // the time of the next frame
@@ -438,9 +506,22 @@ class FluidRun : public Run {
             g.geometric[k] =
                 geometric_term(m.alpha, s.dt, w[k].rho, w[k].a, w[k].u_x, faces.x(k), std::max(m.dx, m.dy));
         }
+        // On many ranks the root grants and relays the step and the answer (the positions at the step's end
+        // are the root's only: it writes them).
         coupling::Answer ans;
-        timed(coupling_wall_, [&] { return ans = (*link_)->exchange(s.dt, g), true; });
-        dt_ = g.dt;
+        const std::vector<double> v = relay(ranks_, [&] {
+            timed(coupling_wall_, [&] { return ans = (*link_)->exchange(s.dt, g), true; });
+            std::vector<double> v = {g.dt};
+            if (!ranks_) return v;
+            v.insert(v.end(), ans.p_I.begin(), ans.p_I.end());
+            v.insert(v.end(), ans.u_I.begin(), ans.u_I.end());
+            return v;
+        });
+        dt_ = v[0];
+        if (!talks()) {
+            ans.p_I.assign(v.begin() + 1, v.begin() + 1 + n);
+            ans.u_I.assign(v.begin() + 1 + n, v.end());
+        }
         wet.set_interface(ans.p_I, ans.u_I);
         double work = 0;
         for (size_t k = 0; k < n; ++k)
@@ -470,9 +551,13 @@ void divide(const CaseFile& c, RunPlan& p, Ranks& ranks, FluidSolver& solver, bo
             const std::string& resume, std::ostream& log) {
     const std::string n = std::to_string(ranks.size()) + " ranks";
     if (!solver.divisible())
-        c.fail("numerics.ranks",
-               "the fluid runs on " + n + " only in 2D without a structure so far; run it on one");
-    if (coupled) c.fail("numerics.ranks", "a fluid coupled to a structure runs on one rank so far");
+        c.fail("numerics.ranks", "the fluid runs on " + n + " only in 2D so far; run it on one");
+    const double wait = c.get().numerics().rank_wait_seconds();
+    if (coupled && wait > 0 && wait <= c.get().coupling().timeout())
+        c.fail("numerics.rank_wait_seconds",
+               format("%g s must exceed coupling.timeout (%g s): the ranks wait on rank 0 while it waits on "
+                      "the structure",
+                      wait, c.get().coupling().timeout()));
     if (!resume.empty())
         c.fail("numerics.ranks", "a run on " + n + " cannot be resumed from a checkpoint yet");
     for (const auto* b : {&c.get().boundaries().y_min(), &c.get().boundaries().y_max()})
@@ -484,7 +569,6 @@ void divide(const CaseFile& c, RunPlan& p, Ranks& ranks, FluidSolver& solver, bo
         c.fail("numerics.ranks", e.what());
     }
     solver.divide(&ranks);
-    ranks.watch(c.get().numerics().rank_wait_seconds(), &stop_requested);
     if (p.checkpoint_seconds > 0)
         log << "undex-fluid: no checkpoints on " << n << " (output.checkpoint_seconds ignored)" << std::endl;
     p.checkpoint_seconds = 0;
@@ -535,7 +619,12 @@ int run(const CaseFile& c, std::ostream& root_log, const std::string& couple, co
         log << "undex-fluid: resuming from " << resume << " (step " << start.step
             << ", t = " << format("%.9g", start.time) << " s)" << std::endl;
     }
-    auto link = coupled ? std::make_unique<StructureLink>(p, couple, *solver, log, start) : nullptr;
+    auto link = coupled ? std::make_unique<StructureLink>(p, couple, *solver, log, start,
+                                                          ranks.many() ? &ranks : nullptr)
+                        : nullptr;
+    // From here on (the handshake waits up to coupling.handshake_timeout on the structure, and the root
+    // relays its end to every rank).
+    if (ranks.many()) ranks.watch(c.get().numerics().rank_wait_seconds(), &stop_requested);
     FluidRun r(c, p, std::move(solver), std::move(link), from ? &*from : nullptr,
                ranks.many() ? &ranks : nullptr, log);
     const int status = drive(r, p, "undex-fluid", log);

@@ -152,8 +152,9 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         troubled_ = 0;
         scaled_ = 0;
         // On many ranks (divide) each stage's result is exchanged with the neighbours' blocks before the
-        // limiter and the next stage read it; a rank that meets a state it cannot hold does no more work in
-        // the step but still takes part in every exchange, so that its neighbours finish the step too.
+        // limiter and the next stage read it, as deep as they read (stage_depth); a rank that meets a state
+        // it cannot hold does no more work in the step but still takes part in every exchange, so that its
+        // neighbours finish the step too.
         std::optional<SolverFailure> failure;
         auto work = [&](auto&& f) {
             if (failure) return;
@@ -165,17 +166,17 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         };
         // Stage 1: U1 = U + dt L(U)
         work([&] { stage_update(u_, time_, {stage_, 1.0, u0_, 0.0, dt}); });
-        exchange(stage_, 1);
+        exchange(stage_, stage_depth());
         work([&] { limit(stage_, time_ + dt, "stage 1"); });
-        exchange(stage_, 1);
+        exchange(stage_, stage_depth());
         // Stage 2: U2 = 3/4 U + 1/4 (U1 + dt L(U1))
         work([&] { stage_update(stage_, time_ + dt, {u_, 0.75, u0_, 0.25, 0.25 * dt}); });
-        exchange(u_, 1);
+        exchange(u_, stage_depth());
         work([&] { limit(u_, time_ + 0.5 * dt, "stage 2"); });
-        exchange(u_, 1);
+        exchange(u_, stage_depth());
         // Stage 3: U = 1/3 U + 2/3 (U2 + dt L(U2))
         work([&] { stage_update(u_, time_ + 0.5 * dt, {stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, 2.0 / 3.0 * dt}); });
-        exchange(stage_, 1);
+        exchange(stage_, stage_depth());
         work([&] { limit(stage_, time_ + dt, "stage 3"); });
         if (failure) {
             copy_region(u_, u0_);
@@ -252,9 +253,12 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         active_changed();
         check_all_ = true; // rows newly in reach of the still-water test are read afresh
     }
-    // The rows a rank reads beyond its block: one through a face or the limiter's neighbours, and with still
-    // water the reach of the test that wakes cells (wake) and one more for the cells it wakes.
-    int halo() const override { return skip_ ? reach() + 2 : 1; }
+    // The rows a rank reads beyond its block: in a stage (stage_depth), and with still water the reach of the
+    // test that wakes cells (wake) and one more for the cells it wakes.
+    int halo() const override { return std::max(stage_depth(), skip_ ? reach() + 2 : 1); }
+    // The rows a stage reads beyond the block: one through a face or the limiter's neighbours, and the
+    // fluid that the stage ghosts in that row read (set_stage_ghosts).
+    int stage_depth() const { return 1 + ghost_reach_; }
     // The whole state on every rank (before an output or a new division).
     void share() override {
         if (!ranks_) return;
@@ -674,6 +678,11 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             for (int r = r0; r <= r1; ++r)
                 copy_lo_[r] = std::min(copy_lo_[r], a), copy_hi_[r] = std::max(copy_hi_[r], b);
         }
+        // On many ranks, the block's rows within M of its edges in full: their stage ghosts may read fluid
+        // that only a neighbour solves.
+        if (ranks_)
+            for (int j = row_begin(); j < row_end(); ++j)
+                if (j < row_begin() + M || j >= row_end() - M) copy_lo_[j + 1] = -1, copy_hi_[j + 1] = nx + 1;
     }
     // dst = src (and *also = src) over the cells of copy_spans().
     void copy_region(std::vector<double>& dst, const std::vector<double>& src,

@@ -46,7 +46,11 @@ namespace undex::fluid {
 template <int K, class M> class WetFluid final : public WetSolver {
   public:
     WetFluid(const Mesh& mesh, std::function<std::unique_ptr<M>()> make, int band_cells = 3)
-        : mesh_(mesh), band_cells_(band_cells), make_(std::move(make)), base_(make_()) {}
+        : mesh_(mesh), band_cells_(band_cells), make_(std::move(make)), base_(make_()) {
+        // The reach of the ghost bands from the start: the rows each rank reads beyond its block (halo)
+        // are known when the ranks divide the mesh, before the structure attaches.
+        base_->for_each_scheme([this](auto& sc) { sc.set_stage_ghosts(nullptr, ghost_reach()); });
+    }
 
     // ---- the structure ------------------------------------------------------------------------------
     void attach(const std::vector<int>& face, const std::vector<double>& x, const std::vector<double>& y,
@@ -61,6 +65,7 @@ template <int K, class M> class WetFluid final : public WetSolver {
         for (int f = 0; f < faces_->faces(); ++f) {
             auto side = std::make_unique<Side>();
             side->scheme = f == 0 ? std::move(base_) : make_();
+            if (f > 0 && ranks_) side->scheme->divide(ranks_);
             side->mask.assign(mesh_.padded_cells(), 0);
             side->phi.assign(n, 0.0);
             sides_.push_back(std::move(side));
@@ -71,9 +76,7 @@ template <int K, class M> class WetFluid final : public WetSolver {
             Side& sd = *sides_[f];
             sd.scheme->set_active(&sd.mask);
             sd.scheme->for_each_scheme([this, f](auto& sc) {
-                // A ghost cell lies within far() of its face and reads the first real cell within
-                // band_cells + 1 of the face along the normal (first_real).
-                sc.set_stage_ghosts([this, f, &sc](double* U) { fill_band(f, sc, U); }, 2 * band_cells_ + 3);
+                sc.set_stage_ghosts([this, f, &sc](double* U) { fill_band(f, sc, U); }, ghost_reach());
             });
         }
         rebuild(true);
@@ -98,9 +101,13 @@ template <int K, class M> class WetFluid final : public WetSolver {
 
     const WetFaces& faces() const override { return *faces_; }
 
+    // On many ranks each node's sample is taken by the rank whose block holds the node's probe cell (its
+    // neighbours across an edge are in the halo) and reaches every rank through one reduction (max, the
+    // others giving −∞): bitwise the one-rank sample.
     std::vector<WetSample> sample() const override {
         const WetFaces& w = *faces_;
         std::vector<WetSample> out(w.nodes());
+        std::vector<double> all(ranks_ ? 5 * w.nodes() : 0, -std::numeric_limits<double>::infinity());
         for (int k = 0; k < w.nodes(); ++k) {
             const auto n = w.normal(k);
             const int f = w.face(k);
@@ -122,6 +129,7 @@ template <int K, class M> class WetFluid final : public WetSolver {
             double v[4][5] = {};
             int used = 0;
             const std::array<long, 4> cells = cells_at(px, py);
+            if (ranks_ && !mine(static_cast<int>(cells[0] / mesh_.nx))) continue;
             for (int m = 0; m < 4; ++m) {
                 const long c = cells[m];
                 if (c < 0 || !(sides_[f]->phi[c] < 0)) continue;
@@ -141,7 +149,12 @@ template <int K, class M> class WetFluid final : public WetSolver {
             for (int q = 0; q < 5; ++q)
                 acc[q] = ((v[0][q] + v[1][q]) + (v[2][q] + v[3][q])) / used;
             out[k] = {acc[0], acc[1], acc[2], acc[3], acc[4]};
+            if (ranks_) std::copy_n(acc, 5, all.begin() + 5 * k);
         }
+        if (!ranks_) return out;
+        ranks_->max(all);
+        for (int k = 0; k < w.nodes(); ++k)
+            out[k] = {all[5 * k], all[5 * k + 1], all[5 * k + 2], all[5 * k + 3], all[5 * k + 4]};
         return out;
     }
 
@@ -200,18 +213,31 @@ template <int K, class M> class WetFluid final : public WetSolver {
             dt = std::min(dt, sd->scheme->stable_dt());
         return dt;
     }
+    // On many ranks, a face's fluid that fails on this rank does not keep the others from their step (the
+    // other ranks wait on its exchanges): they step and are taken back.
     void step(double dt) override {
         if (sides_.empty()) return base_->step(dt);
         if (!interface_set_) throw std::logic_error("WetFluid::step before set_interface");
+        std::optional<SolverFailure> failure;
+        std::vector<char> stepped(sides_.size(), 0);
         for (size_t f = 0; f < sides_.size(); ++f) {
             try {
                 sides_[f]->scheme->step(dt);
+                stepped[f] = 1;
             } catch (const SolverFailure& e) {
-                for (size_t g = 0; g < f; ++g)
-                    sides_[g]->scheme->revert_step();
-                throw SolverFailure("fluid of wet face " + std::to_string(f) + ": " + e.what());
+                failure = SolverFailure("fluid of wet face " + std::to_string(f) + ": " + e.what());
+                if (!ranks_) break;
             }
         }
+        if (!failure) return;
+        for (size_t f = 0; f < sides_.size(); ++f)
+            if (stepped[f]) sides_[f]->scheme->revert_step();
+        throw *failure;
+    }
+    void revert_step() override {
+        if (sides_.empty()) return base_->revert_step();
+        for (auto& sd : sides_)
+            sd->scheme->revert_step();
     }
     void project(const std::function<void(double, double, double*)>&) override {
         throw std::logic_error("a WetFluid takes its initial data from the function that builds its fluid");
@@ -304,6 +330,34 @@ template <int K, class M> class WetFluid final : public WetSolver {
     double pressure_floor() const override { return first().pressure_floor(); }
     void set_structure_state(double, double) override {}
 
+    // Many ranks (fluid/ranks.hpp): every face's fluid divided alike. The faces, φ_s, the real cells and
+    // the ghost bands are every rank's, bit for bit the same (they follow from the node positions alone); a
+    // ghost cell is set by the ranks whose stage reads it, from its source cell in their block or its halo
+    // (Scheme::stage_depth covers the band's reach).
+    bool divisible() const override { return first().divisible(); }
+    void divide(const Ranks* r) override {
+        ranks_ = r && r->many() ? r : nullptr;
+        if (sides_.empty()) return base_->divide(r);
+        for (auto& sd : sides_)
+            sd->scheme->divide(r);
+    }
+    int halo() const override { return first().halo(); }
+    void share() override {
+        if (sides_.empty()) return base_->share();
+        for (auto& sd : sides_)
+            sd->scheme->share();
+    }
+    std::vector<double> row_cost() const override {
+        if (sides_.empty()) return base_->row_cost();
+        std::vector<double> c = sides_[0]->scheme->row_cost();
+        for (size_t f = 1; f < sides_.size(); ++f) {
+            const std::vector<double> more = sides_[f]->scheme->row_cost();
+            for (size_t j = 0; j < c.size(); ++j)
+                c[j] += more[j];
+        }
+        return c;
+    }
+
     // Whether interior cell (i, j) is real for face f (for tests).
     bool real(int f, int i, int j) const { return sides_[f]->phi[at(i, j)] < 0; }
     double phi(int f, int i, int j) const { return sides_[f]->phi[at(i, j)]; }
@@ -338,6 +392,12 @@ template <int K, class M> class WetFluid final : public WetSolver {
     std::vector<Nearest> nearest_; // scratch of the rebuild, reset after use
     std::vector<double> p_I_, u_I_;
     bool interface_set_ = false;
+    const Ranks* ranks_ = nullptr; // many ranks, else null
+
+    // How far a ghost value reads the fluid, in cells: a ghost cell lies within far() of its face and reads
+    // the first real cell within band_cells + 1 of the face along the normal (first_real).
+    int ghost_reach() const { return 2 * band_cells_ + 3; }
+    bool mine(int j) const { return j >= ranks_->begin() && j < ranks_->end(); }
 
     long cells() const { return static_cast<long>(mesh_.nx) * mesh_.ny; }
     long at(int i, int j) const { return static_cast<long>(j) * mesh_.nx + i; }
@@ -597,9 +657,14 @@ template <int K, class M> class WetFluid final : public WetSolver {
 
     // The ghost band of face f in the stage coefficients U of one of its fluid's schemes (called by the
     // scheme at every stage).
+    // On many ranks, only from source cells in the rows the stage's exchange keeps current (the others'
+    // ghost cells are beyond what the rank's stage reads).
     template <class S> void fill_band(int f, const S& sc, double* U) const {
+        const int lo = ranks_ ? ranks_->begin() - sc.stage_depth() : 0;
+        const int hi = ranks_ ? ranks_->end() + sc.stage_depth() : mesh_.ny;
         for (const Ghost& g : sides_[f]->ghosts) {
             if (g.si < 0) continue; // no fluid next to it: keeps its last state
+            if (g.sj < lo || g.sj >= hi) continue;
             const Primitive s = sc.average_in(U, g.si, g.sj);
             const double t = std::clamp(g.t, 0.0, 1.0); // on a ray: the end node's values
             const double p_I = (1 - t) * p_I_[g.a] + t * p_I_[g.a + 1];

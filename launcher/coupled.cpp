@@ -58,7 +58,8 @@ std::string endpoint_of(const CoupledRun& r) {
 
 // The command lines of the fluid [0] and the structure [1].
 std::vector<std::vector<std::string>> command_lines(const CoupledRun& r, const std::string& endpoint) {
-    std::vector<std::string> fluid = {r.fluid, r.case_path}, solid;
+    std::vector<std::string> fluid = r.fluid_prefix, solid;
+    fluid.insert(fluid.end(), {r.fluid, r.case_path});
     fluid.insert(fluid.end(), r.solver_args.begin(), r.solver_args.end());
     fluid.insert(fluid.end(), {"--couple", endpoint});
     if (!r.fluid_resume.empty()) fluid.insert(fluid.end(), {"--resume", r.fluid_resume});

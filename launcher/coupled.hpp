@@ -19,6 +19,7 @@ struct CoupledRun {
     bool force = false;       // take over a stale lock
     // undex run --resume: the checkpoints each side continues from (base/checkpoint.hpp); "" for a new run.
     std::string fluid_resume, structure_resume;
+    std::vector<std::string> fluid_prefix; // what starts the fluid: mpirun and its options on many ranks
 };
 
 // Locks DIR for the run (both sides share the lock), runs both sides, their output interleaved on stdout

@@ -108,8 +108,6 @@ int run(CaseRequest r, const std::string& endpoint, bool tcp, bool force, const 
     if (ranks == 0) ranks = c.get().numerics().ranks();
     if (ranks > 1 && !fluid)
         throw undex::UsageError("--ranks: the case has no fluid (the structure runs on one)");
-    if (ranks > 1 && structure)
-        throw undex::UsageError("--ranks: a fluid coupled to a structure runs on one rank so far");
     if (fluid && structure) {
         const auto& st = c.get().structure();
         CoupledRun run{r.path,
@@ -123,6 +121,7 @@ int run(CaseRequest r, const std::string& endpoint, bool tcp, bool force, const 
                        command,
                        force};
         if (!st.has_command()) run.command.clear();
+        if (ranks > 1) run.fluid_prefix = mpirun_prefix(ranks, c.get().numerics().threads(), hosts);
         if (!resume.empty()) {
             if (!run.command.empty())
                 throw undex::UsageError(
