@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace undex::fluid {
 
@@ -115,18 +116,21 @@ inline void structure_ghost(const double* in, double* out, int side, double p_I,
 
 } // namespace detail
 
+// The ghost cells of the domain's sides, in rows [j0, j1) only (on many ranks, those a rank's stage reads).
 template <int D, int K, EquationOfState Eos>
-void fill_ghosts(const Mesh& m, double* U, const std::array<Boundary, 4>& bc, const Eos& eos, double t) {
+void fill_ghosts(const Mesh& m, double* U, const std::array<Boundary, 4>& bc, const Eos& eos, double t,
+                 int j0 = 0, int j1 = std::numeric_limits<int>::max()) {
     constexpr int NC = (D + 2) * Basis<D, K>::NB; // numbers per cell
     const int nsides = 2 * D;
     for (int side = 0; side < nsides; ++side) {
         const int dir = side / 2;
         const bool high = side % 2;
-        const int count = dir == 0 ? m.ny : m.nx;
+        if (dir == 1 && (high ? j1 < m.ny : j0 > 0)) continue; // a y side beyond the rows
+        const int first = dir == 0 ? std::max(0, j0) : 0, count = dir == 0 ? std::min(m.ny, j1) : m.nx;
         const bool history =
             bc[side].type == BoundaryType::Pressure || bc[side].type == BoundaryType::Incident;
         const double p_b = history ? bc[side].pressure(t) : 0.0;
-        for (int s = 0; s < count; ++s) {
+        for (int s = first; s < count; ++s) {
             int gi, gj, ii, ij; // ghost and interior neighbour
             if (dir == 0) {
                 gj = ij = s;

@@ -3,6 +3,8 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <map>
+#include <cstdio>
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
@@ -96,7 +98,14 @@ struct Waiting {
         w.what = what;
         w.since = Watch::now();
     }
-    ~Waiting() { watch_state().since = 0; }
+    ~Waiting() {
+        Watch& w = watch_state();
+        const double t = (Watch::now() - w.since) * 1e-9;
+        w.since = 0;
+        static std::map<std::string, double> total;
+        static struct P { std::map<std::string, double>* t; ~P() { if (getenv("UNDEX_WAITS")) for (auto& [k, v] : *t) fprintf(stderr, "rank %d waits %s: %.3f s\n", watch_state().rank, k.c_str(), v); } } p{&total};
+        total[std::string(w.what.load()) + (w.peer[0] < 0 && w.peer[1] < 0 ? " all" : "")] += t;
+    }
 };
 
 template <class T> MPI_Datatype type();
@@ -158,20 +167,34 @@ double Ranks::imbalance(const std::vector<double>& cost) const {
 
 template <class T> void Ranks::exchange_rows(T* rows, long row, int depth) const {
     if (size_ == 1 || depth <= 0) return;
-    // Padded row r = j + 1: the block is padded rows [begin + 1, end + 1).
+    MPI_Request q[4];
+    post_rows(rows, row, depth, q);
+    Waiting w(rank_ > 0 ? rank_ - 1 : -1, rank_ + 1 < size_ ? rank_ + 1 : -1);
+    MPI_Waitall(4, q, MPI_STATUSES_IGNORE);
+}
+// The four messages of one exchange (exchange()): the first and last `depth` rows of the block (padded row
+// r = j + 1: the block is padded rows [begin + 1, end + 1)) out, the neighbours' into the rows beyond it.
+template <class T> void Ranks::post_rows(T* rows, long row, int depth, void* requests) const {
+    auto* q = static_cast<MPI_Request*>(requests);
     const long b = begin() + 1, e = end() + 1, n = row * depth;
     const int down = rank_ > 0 ? rank_ - 1 : MPI_PROC_NULL;
     const int up = rank_ + 1 < size_ ? rank_ + 1 : MPI_PROC_NULL;
-    MPI_Request q[4];
     MPI_Irecv(rows + (b - depth) * row, n, type<T>(), down, 1, MPI_COMM_WORLD, &q[0]);
     MPI_Irecv(rows + e * row, n, type<T>(), up, 2, MPI_COMM_WORLD, &q[1]);
     MPI_Isend(rows + b * row, n, type<T>(), down, 2, MPI_COMM_WORLD, &q[2]);
     MPI_Isend(rows + (e - depth) * row, n, type<T>(), up, 1, MPI_COMM_WORLD, &q[3]);
-    Waiting w(rank_ > 0 ? down : -1, rank_ + 1 < size_ ? up : -1);
-    MPI_Waitall(4, q, MPI_STATUSES_IGNORE);
 }
 void Ranks::exchange(double* rows, long row, int depth) const {
     exchange_rows(rows, row, depth);
+}
+void Ranks::exchange(const std::vector<Rows>& x) const {
+    if (size_ == 1 || x.empty()) return;
+    // Messages between two ranks with one tag arrive in the order sent: the list's order matches them.
+    std::vector<MPI_Request> q(4 * x.size());
+    for (size_t k = 0; k < x.size(); ++k)
+        post_rows(x[k].rows, x[k].row, x[k].depth, &q[4 * k]);
+    Waiting w(rank_ > 0 ? rank_ - 1 : -1, rank_ + 1 < size_ ? rank_ + 1 : -1);
+    MPI_Waitall(static_cast<int>(q.size()), q.data(), MPI_STATUSES_IGNORE);
 }
 void Ranks::exchange(char* rows, long row, int depth) const {
     exchange_rows(rows, row, depth);

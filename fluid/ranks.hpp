@@ -35,6 +35,13 @@ class Ranks {
     // and last `depth` rows of this rank's block go to the neighbours, theirs come into the rows beyond it.
     void exchange(double* rows, long row, int depth) const;
     void exchange(char* rows, long row, int depth) const;
+    // Several at once, one wait for all (the same list, in the same order, on every rank).
+    struct Rows {
+        double* rows;
+        long row;
+        int depth;
+    };
+    void exchange(const std::vector<Rows>& x) const;
     // Every rank's block to every rank (padded rows as exchange()).
     void share(double* rows, long row) const;
     void share(char* rows, long row) const;
@@ -67,6 +74,7 @@ class Ranks {
     int rank_ = 0, size_ = 1;
     std::vector<int> first_ = {0, 0};
     template <class T> void exchange_rows(T* rows, long row, int depth) const;
+    template <class T> void post_rows(T* rows, long row, int depth, void* requests) const;
     template <class T> void share_rows(T* rows, long row) const;
 };
 

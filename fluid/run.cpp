@@ -259,6 +259,7 @@ class FluidRun : public Run {
         if (frame_interval_ > 0 && solver_->time() >= next_frame_ * (1 - 1e-12)) {
             solver_->share();
             root_writes([&] { out_->write_frame(*solver_, frame_stride_); });
+            rebalance();
             next_frame_ = frame_interval_ * (std::floor(solver_->time() / frame_interval_ * (1 + 1e-12)) + 1);
         }
     }
@@ -384,8 +385,8 @@ class FluidRun : public Run {
         if (!failure) solver_->revert_step();
         throw RunFailure(exit_method_failed, "fluid rank " + std::to_string(from) + ": " + why);
     }
-    // Many ranks, after an output (the whole state shared): the rows divided again by the cells each updates
-    // when the busiest rank has more than `threshold` times the mean.
+    // Many ranks, after an output or a frame (the whole state shared): the rows divided again by the cells
+    // each updates when the busiest rank has more than `threshold` times the mean.
     static constexpr double threshold = 1.1;
     void rebalance() {
         if (!ranks_) return;

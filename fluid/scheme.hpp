@@ -24,6 +24,22 @@
 
 namespace undex::fluid {
 
+// A step in phases (Scheme::begin_step, phase, exchanges_after, end_step; TwoFluid's and WetFluid's alike):
+// the phases of S, each followed by one exchange among the ranks of all that it leaves (none on one rank);
+// end_step throws the step's SolverFailure.
+inline constexpr int step_phases = 6;
+template <class S> void step_phased(S& s, const Ranks* ranks, double dt) {
+    s.begin_step(dt);
+    std::vector<Ranks::Rows> x;
+    for (int k = 0; k < step_phases; ++k) {
+        s.phase(k);
+        x.clear();
+        s.exchanges_after(k, x);
+        if (ranks) ranks->exchange(x);
+    }
+    s.end_step();
+}
+
 template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSolver {
   public:
     using B = Basis<D, K>;
@@ -141,6 +157,13 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     }
 
     void step(double dt) override {
+        step_phased(*this, ranks_, dt);
+    }
+    // The step in phases (step_phased), so that schemes stepped together (the fluids of TwoFluid and of
+    // every wet face) share each phase's exchange among the ranks: each rank then waits once per phase for
+    // the work of all its schemes, instead of once per scheme for that scheme's share of its rows.
+    // Phases: the three stages' updates and limiters; the last also copies the step's result.
+    void begin_step(double dt) {
         // u0 = stage = u over the cells the step can read or write (copy_spans); cells farther out keep
         // their values in u through the stages. Over the whole mesh the copies took 15 % of a two-fluid step
         // with most of the water asleep (perf, the application at 0.01 m, one thread).
@@ -151,46 +174,58 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         copy_region(u0_, u_, &stage_);
         troubled_ = 0;
         scaled_ = 0;
-        // On many ranks (divide) each stage's result is exchanged with the neighbours' blocks before the
-        // limiter and the next stage read it, as deep as they read (stage_depth); a rank that meets a state
-        // it cannot hold does no more work in the step but still takes part in every exchange, so that its
-        // neighbours finish the step too.
-        std::optional<SolverFailure> failure;
+        dt_ = dt;
+        failure_.reset();
+    }
+    // On many ranks (divide) each stage's result is exchanged with the neighbours' blocks before the
+    // limiter and the next stage read it, as deep as they read (stage_depth); a rank that meets a state it
+    // cannot hold does no more work in the step but still takes part in every exchange, so that its
+    // neighbours finish the step too.
+    void phase(int k) {
         auto work = [&](auto&& f) {
-            if (failure) return;
+            if (failure_) return;
             try {
                 f();
             } catch (const SolverFailure& e) {
-                failure = e;
+                failure_ = e;
             }
         };
-        // Stage 1: U1 = U + dt L(U)
-        work([&] { stage_update(u_, time_, {stage_, 1.0, u0_, 0.0, dt}); });
-        exchange(stage_, stage_depth());
-        work([&] { limit(stage_, time_ + dt, "stage 1"); });
-        exchange(stage_, stage_depth());
-        // Stage 2: U2 = 3/4 U + 1/4 (U1 + dt L(U1))
-        work([&] { stage_update(stage_, time_ + dt, {u_, 0.75, u0_, 0.25, 0.25 * dt}); });
-        exchange(u_, stage_depth());
-        work([&] { limit(u_, time_ + 0.5 * dt, "stage 2"); });
-        exchange(u_, stage_depth());
-        // Stage 3: U = 1/3 U + 2/3 (U2 + dt L(U2))
-        work([&] { stage_update(u_, time_ + 0.5 * dt, {stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, 2.0 / 3.0 * dt}); });
-        exchange(stage_, stage_depth());
-        work([&] { limit(stage_, time_ + dt, "stage 3"); });
-        if (failure) {
-            copy_region(u_, u0_);
-            exchange(u_, halo()); // as the ranks that did not fail do below
+        const double dt = dt_;
+        switch (k) {
+        case 0: // stage 1: U1 = U + dt L(U)
+            return work([&] { stage_update(u_, time_, {stage_, 1.0, u0_, 0.0, dt}); });
+        case 1:
+            return work([&] { limit(stage_, time_ + dt, "stage 1"); });
+        case 2: // stage 2: U2 = 3/4 U + 1/4 (U1 + dt L(U1))
+            return work([&] { stage_update(stage_, time_ + dt, {u_, 0.75, u0_, 0.25, 0.25 * dt}); });
+        case 3:
+            return work([&] { limit(u_, time_ + 0.5 * dt, "stage 2"); });
+        case 4: // stage 3: U = 1/3 U + 2/3 (U2 + dt L(U2))
+            return work(
+                [&] { stage_update(u_, time_ + 0.5 * dt, {stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, 2.0 / 3.0 * dt}); });
+        default:
+            work([&] { limit(stage_, time_ + dt, "stage 3"); });
+            // the step's result, or its start again after a failure; then as far as the next step's
+            // still-water test reads (wake)
+            return failure_ ? copy_region(u_, u0_) : copy_region(u_, stage_);
+        }
+    }
+    // What phase k leaves for the neighbours.
+    void exchanges_after(int k, std::vector<Ranks::Rows>& x) {
+        if (!ranks_) return;
+        std::vector<double>& U = k == 0 || k == 1 || k == 4 ? stage_ : u_;
+        x.push_back({U.data(), row_doubles(), k + 1 == step_phases ? halo() : stage_depth()});
+    }
+    void end_step() {
+        if (failure_) {
             std::ostringstream s;
-            s << failure->what() << " in step " << steps_ + 1 << " from t = " << time_ << " s with dt = " << dt
+            s << failure_->what() << " in step " << steps_ + 1 << " from t = " << time_ << " s with dt = " << dt_
               << " s";
             throw SolverFailure(s.str());
         }
-        copy_region(u_, stage_);
-        exchange(u_, halo()); // the next step's start, as far as its still-water test reads (wake)
-        time_ += dt;
+        time_ += dt_;
         ++steps_;
-        last_dt_ = dt;
+        last_dt_ = dt_;
     }
 
     // Still water (Settings::skip_rest): wakes the cells a disturbance can reach within a step (below).
@@ -259,6 +294,11 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     // The rows a stage reads beyond the block: one through a face or the limiter's neighbours, and the
     // fluid that the stage ghosts in that row read (set_stage_ghosts).
     int stage_depth() const { return 1 + ghost_reach_; }
+    // The rows whose domain ghost cells a stage fills: [ghost_rows(0), ghost_rows(1)), all on one rank.
+    int ghost_rows(int end) const {
+        if (!ranks_) return end ? mesh_.ny : 0;
+        return end ? row_end() + stage_depth() : row_begin() - stage_depth();
+    }
     // The whole state on every rank (before an output or a new division).
     void share() override {
         if (!ranks_) return;
@@ -447,6 +487,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     std::vector<std::vector<double>> band_faces_; // per thread: the face fluxes of its band (compute_rhs)
     std::vector<char> troubled_flag_;
     double time_ = 0.0, last_dt_ = 0.0;
+    double dt_ = 0.0;                        // of the step under way (begin_step)
+    std::optional<SolverFailure> failure_; // of the step under way
     long steps_ = 0;
     const std::vector<char>* active_ = nullptr;
     std::vector<int> lo_, hi_;                // per row: the active cells lie in [lo, hi)
@@ -739,7 +781,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         double* out = st.out.data();
         const double* xs = st.x.data();
         const double sa = st.a, sb = st.b, sbdt = st.bdt;
-        fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
+        fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t, ghost_rows(0), ghost_rows(1));
         if (stage_ghosts_) stage_ghosts_(U);
         const int nx = mesh_.nx, rb = row_begin(), re = row_end(), bands = (re - rb + BAND - 1) / BAND;
         const long xrow = static_cast<long>(nx + 1) * NQF * NV, yrow = static_cast<long>(nx) * NQF * NV;
@@ -1071,7 +1113,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         const bool limiting = K > 0 && set_.limiter != Limiter::None && set_.indicator != Indicator::None;
         const int ny = mesh_.ny;
         if (limiting) {
-            fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t);
+            fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t, ghost_rows(0), ghost_rows(1));
             long count = 0;
 #pragma omp parallel for reduction(+ : count) schedule(dynamic, 8) if (D == 2)
             for (int j = 0; j < ny; ++j) {

@@ -100,27 +100,44 @@ class TwoFluid final : public FluidSolver {
     double stable_dt() const override { return std::min(minus_.stable_dt(), plus_.stable_dt()); }
 
     void step(double dt) override {
+        step_phased(*this, ranks_, dt);
+    }
+    // The step in phases (step_phased): the interface treatment, both fluids' schemes in lockstep (each
+    // phase's exchanges together), then the level set.
+    void begin_step(double dt) {
         treat_interface();
         phi_.save(phi_before_);
-        const long step = steps() + 1; // the same on every rank, whichever fluid fails where
-        // On many ranks a rank whose fluid fails still takes part in every exchange and gather of the step,
-        // which the other ranks wait on, and then takes the step back.
+        step_ = steps() + 1; // the same on every rank, whichever fluid fails where
+        dt_ = dt;
+        minus_.begin_step(dt);
+        plus_.begin_step(dt);
+    }
+    void phase(int k) {
+        minus_.phase(k);
+        plus_.phase(k);
+    }
+    void exchanges_after(int k, std::vector<Ranks::Rows>& x) {
+        minus_.exchanges_after(k, x);
+        plus_.exchanges_after(k, x);
+    }
+    // On many ranks a rank whose fluid fails still takes part in every gather of the level set, which the
+    // other ranks wait on, and then takes the step back.
+    void end_step() {
         std::optional<SolverFailure> failure;
         bool stepped[2] = {false, false};
-        auto fluid_step = [&](auto& scheme, int f) {
-            if (failure && !ranks_) return;
+        auto fluid_end = [&](auto& scheme, int f) {
             try {
-                scheme.step(dt);
+                scheme.end_step();
                 stepped[f] = true;
             } catch (const SolverFailure& e) {
                 if (!failure) failure = SolverFailure(names_[f] + ": " + e.what());
             }
         };
-        fluid_step(minus_, 0);
-        fluid_step(plus_, 1);
+        fluid_end(minus_, 0);
+        fluid_end(plus_, 1);
         if (!failure || ranks_) {
-            phi_.advect(wx_, wy_, dt);
-            if (set_.reinit_every > 0 && step % set_.reinit_every == 0)
+            phi_.advect(wx_, wy_, dt_);
+            if (set_.reinit_every > 0 && step_ % set_.reinit_every == 0)
                 phi_.reinitialise(set_.reinit_iterations);
             update_masks(phi_.tube());
         }
@@ -278,6 +295,8 @@ class TwoFluid final : public FluidSolver {
     std::vector<char> active_m_, active_p_;
     std::vector<double> wx_, wy_;   // extension velocity of the level set
     LevelSet::Snapshot phi_before_; // φ at the start of the last step
+    long step_ = 0;    // the number of the step under way (begin_step)
+    double dt_ = 0;    // its Δt
     const std::vector<char>* region_ = nullptr;
     const Ranks* ranks_ = nullptr; // many ranks (divide), else null
     // Work arrays of the interface treatment, kept between steps: allocating them afresh at every step cost

@@ -213,20 +213,35 @@ template <int K, class M> class WetFluid final : public WetSolver {
             dt = std::min(dt, sd->scheme->stable_dt());
         return dt;
     }
-    // On many ranks, a face's fluid that fails on this rank does not keep the others from their step (the
-    // other ranks wait on its exchanges): they step and are taken back.
     void step(double dt) override {
         if (sides_.empty()) return base_->step(dt);
         if (!interface_set_) throw std::logic_error("WetFluid::step before set_interface");
+        step_phased(*this, ranks_, dt);
+    }
+    // The step in phases (step_phased): every face's fluid in lockstep, each phase's exchanges together
+    // (so that a rank whose rows hold mostly one face's fluid does not wait on the others for each face's).
+    void begin_step(double dt) {
+        for (auto& sd : sides_)
+            sd->scheme->begin_step(dt);
+    }
+    void phase(int k) {
+        for (auto& sd : sides_)
+            sd->scheme->phase(k);
+    }
+    void exchanges_after(int k, std::vector<Ranks::Rows>& x) {
+        for (auto& sd : sides_)
+            sd->scheme->exchanges_after(k, x);
+    }
+    // A face's fluid that fails: the others' steps are taken back.
+    void end_step() {
         std::optional<SolverFailure> failure;
         std::vector<char> stepped(sides_.size(), 0);
         for (size_t f = 0; f < sides_.size(); ++f) {
             try {
-                sides_[f]->scheme->step(dt);
+                sides_[f]->scheme->end_step();
                 stepped[f] = 1;
             } catch (const SolverFailure& e) {
-                failure = SolverFailure("fluid of wet face " + std::to_string(f) + ": " + e.what());
-                if (!ranks_) break;
+                if (!failure) failure = SolverFailure("fluid of wet face " + std::to_string(f) + ": " + e.what());
             }
         }
         if (!failure) return;
