@@ -74,6 +74,25 @@ void Output::state(State& s) {
 }
 
 void Output::write_frame(const FluidSolver& solver, int stride) {
+    write_frame(frame_cells(solver, 0, ny_), solver.time(), stride);
+}
+
+std::vector<double> frame_cells(const FluidSolver& solver, int j0, int j1) {
+    const int nx = solver.mesh().nx;
+    const bool cavitation = solver.has_cavitation();
+    const std::vector<double> phi = solver.level_set();
+    std::vector<double> c;
+    c.reserve(4L * (j1 - j0) * nx);
+    for (int j = j0; j < j1; ++j)
+        for (int i = 0; i < nx; ++i) {
+            const Primitive w = solver.cell_average(i, j);
+            c.insert(c.end(), {w.p, w.rho, phi.empty() ? 1.0 : phi[static_cast<long>(j) * nx + i],
+                               cavitation ? solver.cell_void_fraction(i, j) : 0.0});
+        }
+    return c;
+}
+
+void Output::write_frame(const std::vector<double>& cells, double time, int stride) {
     // The group of frames is made with the first; a resumed run finds it there.
     if (frames_ == 0 &&
         check(H5Lexists(file_.id(), "frames", H5P_DEFAULT), file_.id(), "frames", "look up") <= 0) {
@@ -91,19 +110,16 @@ void Output::write_frame(const FluidSolver& solver, int stride) {
     const int bx = (nx_ + stride - 1) / stride, by = (ny_ + stride - 1) / stride;
     const long nb = static_cast<long>(bx) * by;
     std::vector<double> sum(4 * nb, 0.0), count(nb, 0.0);
-    const std::vector<double> phi = level_set_ ? solver.level_set() : std::vector<double>{};
     for (int j = 0; j < ny_; ++j)
         for (int i = 0; i < nx_; ++i) {
             const long b = static_cast<long>(j / stride) * bx + i / stride;
-            const Primitive w = solver.cell_average(i, j);
-            sum[4 * b] += w.p;
-            sum[4 * b + 1] += w.rho;
-            sum[4 * b + 2] += level_set_ ? phi[static_cast<long>(j) * nx_ + i] : 1.0;
-            sum[4 * b + 3] += cavitation_ ? solver.cell_void_fraction(i, j) : 0.0;
+            const double* c = cells.data() + 4 * (static_cast<long>(j) * nx_ + i);
+            for (int v = 0; v < 4; ++v)
+                sum[4 * b + v] += c[v];
             count[b] += 1;
         }
     Object group = create_group(file_.id(), name);
-    write_attr<double>(group.id(), "time", solver.time());
+    write_attr<double>(group.id(), "time", time);
     std::vector<float> out(nb);
     int v = 0;
     for (const char* field : {"p", "rho", "phi", "void_fraction"}) {

@@ -52,6 +52,10 @@ class Output {
     // A light frame (/frames/NNNNNN): cell averages of p, rho, phi, void_fraction in single precision,
     // averaged over blocks of stride × stride cells (the last block of a row or column may be smaller).
     void write_frame(const FluidSolver& solver, int stride);
+    // The same from the cells' p, rho, phi, void fraction (frame_cells of every row, in order): on many
+    // ranks each gives its own rows.
+    void write_frame(const std::vector<double>& cells, double time, int stride);
+
     void record_gauges(const FluidSolver& solver);
     // The same with the gauges' states at time t given (many ranks: evaluated by the rank that holds each).
     void record_gauges(double t, const std::vector<Primitive>& w);
@@ -89,5 +93,8 @@ class Output {
 std::vector<double> read_coefficients(const std::string& h5_path, const std::string& group);
 // Level set φ of a two-fluid run (empty for one fluid).
 std::vector<double> read_level_set(const std::string& h5_path, const std::string& group);
+
+// p, rho, phi (1 without a level set) and the void fraction of the cells of rows [j0, j1) (for frames).
+std::vector<double> frame_cells(const FluidSolver& solver, int j0, int j1);
 
 } // namespace undex::fluid

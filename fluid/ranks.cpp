@@ -3,8 +3,6 @@
 #include <mpi.h>
 
 #include <algorithm>
-#include <map>
-#include <cstdio>
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
@@ -98,14 +96,7 @@ struct Waiting {
         w.what = what;
         w.since = Watch::now();
     }
-    ~Waiting() {
-        Watch& w = watch_state();
-        const double t = (Watch::now() - w.since) * 1e-9;
-        w.since = 0;
-        static std::map<std::string, double> total;
-        static struct P { std::map<std::string, double>* t; ~P() { if (getenv("UNDEX_WAITS")) for (auto& [k, v] : *t) fprintf(stderr, "rank %d waits %s: %.3f s\n", watch_state().rank, k.c_str(), v); } } p{&total};
-        total[std::string(w.what.load()) + (w.peer[0] < 0 && w.peer[1] < 0 ? " all" : "")] += t;
-    }
+    ~Waiting() { watch_state().since = 0; }
 };
 
 template <class T> MPI_Datatype type();

@@ -257,9 +257,13 @@ class FluidRun : public Run {
         if (ranks_ && root()) out_->record_gauges(solver_->time(), gauge_values_);
         if (!ranks_) out_->record_gauges(*solver_);
         if (frame_interval_ > 0 && solver_->time() >= next_frame_ * (1 - 1e-12)) {
-            solver_->share();
-            root_writes([&] { out_->write_frame(*solver_, frame_stride_); });
-            rebalance();
+            if (ranks_) { // each rank's rows to the root, not the whole state to every rank
+                const auto cells = ranks_->gather(frame_cells(*solver_, ranks_->begin(), ranks_->end()));
+                root_writes([&] { out_->write_frame(cells, solver_->time(), frame_stride_); });
+                rebalance(false);
+            } else {
+                out_->write_frame(*solver_, frame_stride_);
+            }
             next_frame_ = frame_interval_ * (std::floor(solver_->time() / frame_interval_ * (1 + 1e-12)) + 1);
         }
     }
@@ -385,15 +389,16 @@ class FluidRun : public Run {
         if (!failure) solver_->revert_step();
         throw RunFailure(exit_method_failed, "fluid rank " + std::to_string(from) + ": " + why);
     }
-    // Many ranks, after an output or a frame (the whole state shared): the rows divided again by the cells
+    // Many ranks, after an output (the whole state shared) or a frame: the rows divided again by the cells
     // each updates when the busiest rank has more than `threshold` times the mean.
     static constexpr double threshold = 1.1;
-    void rebalance() {
+    void rebalance(bool shared = true) {
         if (!ranks_) return;
         std::vector<double> cost = solver_->row_cost();
         ranks_->max(cost);
         const double before = ranks_->imbalance(cost);
         if (before <= threshold) return;
+        if (!shared) solver_->share(); // a new division needs the whole state on every rank
         ranks_->divide(cost, solver_->halo());
         solver_->divide(ranks_);
         ++divisions_;

@@ -7,8 +7,9 @@
 # a fixed CPU-bound loop alone and two copies at once (this VM's second core has phases in which it gives far
 # less than a core; a speed-up is read against that ceiling). Every run's fields are compared with the first
 # one-rank run's, bit for bit (the scaling of a wrong answer is worth nothing).
-#   bash tests/bench/ranks.sh [BUILD] [CASE] [n] [t_end] [runs] [--set ...]
-# Defaults: build, cases/riemann_2d.case, 400, 0.02, 3.
+#   bash tests/bench/ranks.sh [BUILD] [CASE] [n | NXxNY] [t_end] [runs] [--set ...]
+# Defaults: build, cases/riemann_2d.case, 400, 0.02, 3. A case with a structure runs coupled (undex run
+# --ranks), the fluid's wall time counted.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build=${1:-build} case=${2:-cases/riemann_2d.case} n=${3:-400} t_end=${4:-0.02} runs=${5:-3}
@@ -18,13 +19,18 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 root=()
 [ "$(id -u)" -eq 0 ] && root=(--allow-run-as-root)
-one() { # RANKS THREADS TAG: prints the wall time
-    local cmd=("$build/bin/undex-fluid" "$case" --set domain.cells_x="$n" --set domain.cells_y="$n"
-               --set end_time="$t_end" --set output.times[0]="$t_end" --set numerics.threads="$2"
-               --set output.directory="$out/$3" --set output.progress_seconds=1000 "${extra[@]}")
-    if [ "$1" -gt 1 ]; then cmd=(mpirun "${root[@]}" -n "$1" "${cmd[@]}"); fi
+nx=${n%x*} ny=${n#*x} # n or NXxNY cells
+one() { # RANKS THREADS TAG: prints the fluid's wall time
+    local sets=(--set domain.cells_x="$nx" --set domain.cells_y="$ny" --set end_time="$t_end"
+                --set output.times[0]="$t_end" --set numerics.threads="$2" --set output.progress_seconds=1000
+                "${extra[@]}")
+    local cmd=("$build/bin/undex-fluid" "$case" --set output.directory="$out/$3" "${sets[@]}")
+    # A case with a structure: both sides through undex run (the fluid's ranks under mpirun).
+    if grep -q '^structure' "$case"; then
+        cmd=("$build/bin/undex" run "$case" -o "$out/$3" --ranks "$1" "${sets[@]}")
+    elif [ "$1" -gt 1 ]; then cmd=(mpirun "${root[@]}" -n "$1" "${cmd[@]}"); fi
     if [ "$2" -gt 1 ]; then cmd=(env OMP_PROC_BIND=false "${cmd[@]}"); fi
-    "${cmd[@]}" | sed -n 's/.*done: \([0-9]*\) steps, wall \([0-9.]*\) s.*/\2/p'
+    "${cmd[@]}" | sed -n 's/.*undex-fluid: done: \([0-9]*\) steps, wall \([0-9.]*\) s.*/\2/p'
 }
 ceiling() { # the work of two copies of a CPU-bound loop run at once over the work of one, in the same time
     local spin='import time

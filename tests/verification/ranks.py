@@ -51,9 +51,9 @@ def check(what, ok):
         failures.append(what)
 
 
-def run(case, name, ranks, sets):
+def run(case, name, ranks, sets, more=()):
     args = [os.path.join(bin_dir, "undex"), "run", os.path.join(cases, case), "-o", os.path.join(work, name),
-            "--set", "numerics.threads=1"]
+            "--set", "numerics.threads=1"] + list(more)
     if ranks > 1:
         args += ["--ranks", str(ranks)]
     for s in sets:
@@ -74,11 +74,11 @@ def datasets(path):
     return out
 
 
-def same(name, reference, other):
-    a, b = datasets(os.path.join(work, reference, "fluid.h5")), datasets(os.path.join(work, other, "fluid.h5"))
+def same(name, reference, other, side="fluid"):
+    a, b = (datasets(os.path.join(work, d, side + ".h5")) for d in (reference, other))
     differ = [k for k in a if k not in b or a[k].shape != b[k].shape or not np.array_equal(a[k], b[k])]
-    check("%s: %d float datasets bitwise the same as one rank%s" % (name, len(a), "; differ: " +
-          ", ".join(differ[:5]) if differ else ""), len(a) > 10 and not differ)
+    check("%s: %d float datasets of %s.h5 bitwise the same as one rank%s" % (
+        name, len(a), side, "; differ: " + ", ".join(differ[:5]) if differ else ""), len(a) > 10 and not differ)
 
 
 riemann = ["domain.cells_x=64", "domain.cells_y=64", "end_time=0.05", "output.times[0]=0.025",
@@ -127,6 +127,27 @@ for tag, sets, counts in (("bubble", bubble, (1, 2, 4)), ("bubble_paper", paper,
         same("case 4.4 (%s) on %d ranks" % (tag, n), "%s_1" % tag, "%s_%d" % (tag, n))
 
 
+# Coupled to the structure: case 4.5 (a water-backed sandwich plate, one fluid on each side of it) at 0.02 m,
+# over ipc:// and over tcp://; the application (a bubble under a steel plate: two fluids and a structure) at
+# 0.04 m. Both files bitwise: the structure sees the same samples, so its answers are the same too.
+plate = ["domain.cells_x=100", "domain.cells_y=116", "end_time=3e-4"]
+app = ["domain.cells_x=125", "domain.cells_y=300", "end_time=1.8e-4"] + [
+    "output.times[%d]=%g" % (k, 2e-5 * (k + 1)) for k in range(9)]
+for tag, case, sets, more, n in (("plate", "sandwich_plate_water_backed_2d.case", plate, (), 1),
+                                 ("plate", "sandwich_plate_water_backed_2d.case", plate, (), 2),
+                                 ("plate_tcp", "sandwich_plate_water_backed_2d.case", plate, ("--tcp",), 2),
+                                 ("app", "undex_steel_plate.case", app, (), 1),
+                                 ("app", "undex_steel_plate.case", app, (), 2)):
+    status, log = run(case, "%s_%d" % (tag, n), n, sets, more)
+    check("%s on %d rank(s): exit status 0 (got %d)" % (tag, n, status), status == 0)
+    if status:
+        print(log)
+    if tag == "plate_tcp":
+        check("plate_tcp: coupled over tcp://", "coupled run over tcp://" in log)
+for tag, reference in (("plate_2", "plate_1"), ("plate_tcp_2", "plate_1"), ("app_2", "app_1")):
+    for side in ("fluid", "solid"):
+        same("coupled %s on 2 ranks" % tag, reference, tag, side)
+
 
 def rank_pid(rank, tag):
     """The PID of the fluid's rank `rank` of the run writing to work/tag (by its MPI environment)."""
@@ -144,9 +165,9 @@ def rank_pid(rank, tag):
     return None
 
 
-def fault(tag, sig, sets):
-    """Case 4.4 at 400 x 400 on 2 ranks; once its first output is written, `sig` to rank 1."""
-    args = [os.path.join(bin_dir, "undex"), "run", os.path.join(cases, "free_field_2d.case"), "-o",
+def fault(tag, sig, sets, case="free_field_2d.case"):
+    """Case 4.4 at 400 x 400 (or `case`) on 2 ranks; once its first output is written, `sig` to rank 1."""
+    args = [os.path.join(bin_dir, "undex"), "run", os.path.join(cases, case), "-o",
             os.path.join(work, tag), "--ranks", "2", "--set", "numerics.threads=1"]
     for s in sets:
         args += ["--set", s]
@@ -176,11 +197,11 @@ def fault(tag, sig, sets):
     return p.returncode, out, time.time() - sent
 
 
-def readable(tag):
+def readable(tag, side="fluid"):
     try:
-        with h5py.File(os.path.join(work, tag, "fluid.h5"), "r") as f:
+        with h5py.File(os.path.join(work, tag, side + ".h5"), "r") as f:
             g = f["fields"][sorted(f["fields"])[-1]]
-            return len(f["fields"]) >= 1 and np.isfinite(g["p"][()]).all()
+            return len(f["fields"]) >= 1 and np.isfinite(g["p" if side == "fluid" else "displacement"][()]).all()
     except (OSError, KeyError):
         return False
 
@@ -200,6 +221,15 @@ print(log)
 check("rank 1 killed: the run ends (status %d) in %.1f s" % (status, took), status not in (0, -1) and took < 60)
 check("rank 1 killed: the message names rank 1 and the step", "rank 1 " in log and " in step " in log)
 check("rank 1 killed: fluid.h5 readable with the outputs written before", readable("killed"))
+
+status, log, took = fault("killed_coupled", signal.SIGKILL, [], "sandwich_plate_water_backed_2d.case")
+print(log)
+check("rank 1 killed in a coupled run: the run ends (status %d) in %.1f s" % (status, took),
+      status not in (0, -1) and took < 60)
+check("rank 1 killed in a coupled run: the message names rank 1 and the step, the structure is stopped",
+      "rank 1 " in log and " in step " in log and "undex: solid ended" in log)
+check("rank 1 killed in a coupled run: fluid.h5 and solid.h5 readable with the outputs written before",
+      readable("killed_coupled") and readable("killed_coupled", "solid"))
 
 status, log, took = fault("hung", signal.SIGSTOP, ["numerics.rank_wait_seconds=3"])
 print(log)
