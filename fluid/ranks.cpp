@@ -99,6 +99,14 @@ struct Waiting {
     ~Waiting() { watch_state().since = 0; }
 };
 
+// MPI counts and offsets are int: a message beyond 2^31 − 1 elements is refused, not truncated.
+int mpi_count(long n) {
+    if (n > std::numeric_limits<int>::max())
+        throw std::length_error("a message of " + std::to_string(n) +
+                                " elements among the fluid's ranks exceeds MPI's 2^31 - 1: use more ranks");
+    return static_cast<int>(n);
+}
+
 template <class T> MPI_Datatype type();
 template <> MPI_Datatype type<double>() {
     return MPI_DOUBLE;
@@ -170,10 +178,11 @@ template <class T> void Ranks::post_rows(T* rows, long row, int depth, void* req
     const long b = begin() + 1, e = end() + 1, n = row * depth;
     const int down = rank_ > 0 ? rank_ - 1 : MPI_PROC_NULL;
     const int up = rank_ + 1 < size_ ? rank_ + 1 : MPI_PROC_NULL;
-    MPI_Irecv(rows + (b - depth) * row, n, type<T>(), down, 1, MPI_COMM_WORLD, &q[0]);
-    MPI_Irecv(rows + e * row, n, type<T>(), up, 2, MPI_COMM_WORLD, &q[1]);
-    MPI_Isend(rows + b * row, n, type<T>(), down, 2, MPI_COMM_WORLD, &q[2]);
-    MPI_Isend(rows + (e - depth) * row, n, type<T>(), up, 1, MPI_COMM_WORLD, &q[3]);
+    const int c = mpi_count(n);
+    MPI_Irecv(rows + (b - depth) * row, c, type<T>(), down, 1, MPI_COMM_WORLD, &q[0]);
+    MPI_Irecv(rows + e * row, c, type<T>(), up, 2, MPI_COMM_WORLD, &q[1]);
+    MPI_Isend(rows + b * row, c, type<T>(), down, 2, MPI_COMM_WORLD, &q[2]);
+    MPI_Isend(rows + (e - depth) * row, c, type<T>(), up, 1, MPI_COMM_WORLD, &q[3]);
 }
 void Ranks::exchange(double* rows, long row, int depth) const {
     exchange_rows(rows, row, depth);
@@ -195,7 +204,8 @@ template <class T> void Ranks::share_rows(T* rows, long row) const {
     if (size_ == 1) return;
     std::vector<int> count(size_), offset(size_);
     for (int r = 0; r < size_; ++r)
-        count[r] = static_cast<int>((first_[r + 1] - first_[r]) * row), offset[r] = (first_[r] + 1) * row;
+        count[r] = mpi_count((first_[r + 1] - first_[r]) * row),
+        offset[r] = mpi_count((first_[r] + 1) * row);
     Waiting w;
     MPI_Allgatherv(MPI_IN_PLACE, 0, type<T>(), rows, count.data(), offset.data(), type<T>(), MPI_COMM_WORLD);
 }
@@ -209,7 +219,8 @@ void Ranks::share(char* rows, long row) const {
 void Ranks::max(std::vector<double>& v) const {
     if (size_ == 1) return;
     Waiting w;
-    MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, v.data(), mpi_count(static_cast<long>(v.size())), MPI_DOUBLE, MPI_MAX,
+                  MPI_COMM_WORLD);
 }
 
 long Ranks::sum(long v) const {
@@ -223,7 +234,7 @@ long Ranks::sum(long v) const {
 // A broadcast from the root waits on it; from another rank (the one that failed), on every rank.
 std::string Ranks::broadcast(const std::string& text, int from) const {
     if (size_ == 1) return text;
-    int n = static_cast<int>(text.size());
+    int n = mpi_count(static_cast<long>(text.size()));
     Waiting w(from == 0 && !root() ? 0 : -1, -1, "a broadcast from it");
     MPI_Bcast(&n, 1, MPI_INT, from, MPI_COMM_WORLD);
     std::string out = rank_ == from ? text : std::string(n, '\0');
@@ -237,20 +248,20 @@ std::vector<double> Ranks::broadcast(const std::vector<double>& v, int from) con
     Waiting w(from == 0 && !root() ? 0 : -1, -1, "a broadcast from it");
     MPI_Bcast(&n, 1, MPI_LONG, from, MPI_COMM_WORLD);
     std::vector<double> out = rank_ == from ? v : std::vector<double>(n);
-    MPI_Bcast(out.data(), static_cast<int>(n), MPI_DOUBLE, from, MPI_COMM_WORLD);
+    MPI_Bcast(out.data(), mpi_count(n), MPI_DOUBLE, from, MPI_COMM_WORLD);
     return out;
 }
 
 std::vector<double> Ranks::gather(const std::vector<double>& v) const {
     if (size_ == 1) return v;
-    const int n = static_cast<int>(v.size());
+    const int n = mpi_count(static_cast<long>(v.size()));
     std::vector<int> count(size_), offset(size_);
     Waiting w;
     MPI_Gather(&n, 1, MPI_INT, count.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
     std::vector<double> out;
     if (root()) {
         for (int r = 1; r < size_; ++r)
-            offset[r] = offset[r - 1] + count[r - 1];
+            offset[r] = mpi_count(static_cast<long>(offset[r - 1]) + count[r - 1]);
         out.resize(offset[size_ - 1] + count[size_ - 1]);
     }
     MPI_Gatherv(v.data(), n, MPI_DOUBLE, out.data(), count.data(), offset.data(), MPI_DOUBLE, 0,
@@ -262,7 +273,7 @@ std::vector<double> Ranks::gather_all(const std::vector<double>& mine, const std
     if (size_ == 1) return mine;
     std::vector<int> offset(size_, 0);
     for (int r = 1; r < size_; ++r)
-        offset[r] = offset[r - 1] + count[r - 1];
+        offset[r] = mpi_count(static_cast<long>(offset[r - 1]) + count[r - 1]);
     std::vector<double> out(static_cast<size_t>(offset[size_ - 1]) + count[size_ - 1]);
     Waiting w;
     MPI_Allgatherv(mine.data(), count[rank_], MPI_DOUBLE, out.data(), count.data(), offset.data(), MPI_DOUBLE,

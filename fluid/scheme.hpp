@@ -201,8 +201,9 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         case 3:
             return work([&] { limit(u_, time_ + 0.5 * dt, "stage 2"); });
         case 4: // stage 3: U = 1/3 U + 2/3 (U2 + dt L(U2))
-            return work(
-                [&] { stage_update(u_, time_ + 0.5 * dt, {stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, 2.0 / 3.0 * dt}); });
+            return work([&] {
+                stage_update(u_, time_ + 0.5 * dt, {stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, 2.0 / 3.0 * dt});
+            });
         default:
             work([&] { limit(stage_, time_ + dt, "stage 3"); });
             // the step's result, or its start again after a failure; then as far as the next step's
@@ -219,8 +220,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     void end_step() {
         if (failure_) {
             std::ostringstream s;
-            s << failure_->what() << " in step " << steps_ + 1 << " from t = " << time_ << " s with dt = " << dt_
-              << " s";
+            s << failure_->what() << " in step " << steps_ + 1 << " from t = " << time_
+              << " s with dt = " << dt_ << " s";
             throw SolverFailure(s.str());
         }
         time_ += dt_;

@@ -241,7 +241,8 @@ template <int K, class M> class WetFluid final : public WetSolver {
                 sides_[f]->scheme->end_step();
                 stepped[f] = 1;
             } catch (const SolverFailure& e) {
-                if (!failure) failure = SolverFailure("fluid of wet face " + std::to_string(f) + ": " + e.what());
+                if (!failure)
+                    failure = SolverFailure("fluid of wet face " + std::to_string(f) + ": " + e.what());
             }
         }
         if (!failure) return;

@@ -78,7 +78,8 @@ def same(name, reference, other, side="fluid"):
     a, b = (datasets(os.path.join(work, d, side + ".h5")) for d in (reference, other))
     differ = [k for k in a if k not in b or a[k].shape != b[k].shape or not np.array_equal(a[k], b[k])]
     check("%s: %d float datasets of %s.h5 bitwise the same as one rank%s" % (
-        name, len(a), side, "; differ: " + ", ".join(differ[:5]) if differ else ""), len(a) > 10 and not differ)
+        name, len(a), side, "; differ: " + ", ".join(differ[:5]) if differ else ""),
+        len(a) > 10 and not differ)
 
 
 riemann = ["domain.cells_x=64", "domain.cells_y=64", "end_time=0.05", "output.times[0]=0.025",
@@ -201,7 +202,8 @@ def readable(tag, side="fluid"):
     try:
         with h5py.File(os.path.join(work, tag, side + ".h5"), "r") as f:
             g = f["fields"][sorted(f["fields"])[-1]]
-            return len(f["fields"]) >= 1 and np.isfinite(g["p" if side == "fluid" else "displacement"][()]).all()
+            field = "p" if side == "fluid" else "displacement"
+            return len(f["fields"]) >= 1 and np.isfinite(g[field][()]).all()
     except (OSError, KeyError):
         return False
 
