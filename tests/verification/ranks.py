@@ -14,6 +14,8 @@ Runs (one thread per rank; 4 ranks oversubscribe this host's 2 cores):
     and 4 ranks, and at 64 x 64 with the paper's setting (real GFM, WENO, degree 2) on 1 and 2 ranks: the
     level set and the interface treatment are every rank's, from the cell averages near the interface
     gathered from their owners.
+  coupled to the structure (rank 0 talks to it): case 4.5 at 100 x 116 to 3e-4 s over ipc:// and over
+    tcp://, and the application (steel plate) at 0.04 m to 1.8e-4 s, on 1 and 2 ranks: fluid.h5 and solid.h5.
 Faults and refusals, on 2 ranks:
   a state the method cannot hold in one rank's rows (positivity and limiter off on a strong jump): exit
     status 2 with a message naming the rank, the cell and the step, the output kept with the last good state;
@@ -22,6 +24,7 @@ Faults and refusals, on 2 ranks:
     good state included) is bitwise the one-rank run's, which fails alike;
   rank 1 killed (SIGKILL) during case 4.4 at 400 x 400: the run ends within 60 s with a message naming
     rank 1 and the step, fluid.h5 readable with the outputs written before;
+  rank 1 killed during case 4.5 (coupled): the structure ends too, both files readable;
   rank 1 frozen (SIGSTOP: a hang) with numerics.rank_wait_seconds=3: rank 0 ends the run with exit status 3
     and a message naming rank 1 and the step, fluid.h5 readable;
   a case the ranks cannot run yet (1D) is refused before anything is written, naming numerics.ranks, and
