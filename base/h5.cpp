@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 
 #include <fcntl.h>
 
@@ -270,6 +271,31 @@ void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims
 }
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const int* data) {
     write_typed(loc, name, dims, H5T_STD_I32LE, H5T_NATIVE_INT, data);
+}
+
+void write_virtual(hid_t loc, const char* name, const std::vector<hsize_t>& dims,
+                   const std::vector<RowBlock>& blocks) {
+    delete_link(loc, name);
+    const int rank = static_cast<int>(dims.size());
+    Object space(H5Screate_simple(rank, dims.data(), nullptr), H5Sclose, loc, name, "make a dataspace for");
+    Object dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, loc, name, "make the creation properties of");
+    const double missing = std::numeric_limits<double>::quiet_NaN();
+    check(H5Pset_fill_value(dcpl.id(), H5T_NATIVE_DOUBLE, &missing), loc, name, "set the fill value of");
+    for (const RowBlock& b : blocks) {
+        std::vector<hsize_t> start(rank, 0), count = dims;
+        start[0] = b.first, count[0] = b.rows;
+        Object source(H5Screate_simple(rank, count.data(), nullptr), H5Sclose, loc, name,
+                      "make a dataspace for");
+        check(H5Sselect_hyperslab(space.id(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
+              loc, name, "select the rows of " + b.file + " in");
+        check(H5Pset_virtual(dcpl.id(), space.id(), b.file.c_str(), b.dataset.c_str(), source.id()), loc,
+              name, "map " + b.file + " into");
+    }
+    check(H5Sselect_all(space.id()), loc, name, "select all of");
+    Object set(H5Dcreate2(loc, name, H5T_IEEE_F64LE, space.id(), H5P_DEFAULT, dcpl.id(), H5P_DEFAULT),
+               H5Dclose, loc, name, "create the dataset");
+    set.close("write the dataset");
+    after_write();
 }
 
 namespace {

@@ -74,6 +74,16 @@ void write_text(hid_t loc, const char* name, const std::string& text, size_t cap
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const double* data);
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const float* data);
 void write_dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const int* data);
+// A dataset of doubles of shape dims made of blocks of whole rows (along the first dimension) stored in
+// other files: an HDF5 virtual dataset, which every reader (h5py, ParaView, read_dataset) reads as one.
+// file: relative to the directory of loc's file (where HDF5 looks for it first); rows not covered, or of a
+// file that is missing, read as NaN.
+struct RowBlock {
+    std::string file, dataset;
+    hsize_t first, rows;
+};
+void write_virtual(hid_t loc, const char* name, const std::vector<hsize_t>& dims,
+                   const std::vector<RowBlock>& blocks);
 // While one is in scope, hook() runs after a dataset is written (write_dataset, write_table), at most once
 // per `seconds`: a coupled solver keeps its partner waiting through a long output with heartbeats between its
 // datasets (docs/protocol.md). One at a time per process.

@@ -16,9 +16,17 @@ namespace undex::fluid {
 using namespace undex::h5;
 
 Output::Output(const std::string& directory, const std::string& case_text, const FluidSolver& solver,
-               const std::vector<GaugePoint>& gauges)
+               const std::vector<GaugePoint>& gauges, int ranks)
     : file_(directory, "fluid.h5", case_text), gauges_(gauges), series_(gauges.size()) {
     describe(solver);
+    for (int r = ranks == 1 ? 0 : ranks;; ++r) { // an older run's (on more ranks)
+        std::error_code e;
+        if (!std::filesystem::remove(std::filesystem::path(directory) / OutputPart::name(r), e)) break;
+    }
+    if (ranks == 1) {
+        std::error_code ignored;
+        std::filesystem::remove(std::filesystem::path(directory) / "fluid.parts", ignored); // when empty
+    }
     const Mesh& m = solver.mesh();
     write_attr<long>(file_.id(), "dim", m.dim);
     write_attr<long>(file_.id(), "nx", m.nx);
@@ -132,7 +140,59 @@ void Output::write_frame(const std::vector<double>& cells, double time, int stri
     file_.flush();
 }
 
-void Output::write_fields(const FluidSolver& solver, bool last_good) {
+namespace {
+// The field datasets of an output: name, and 0 for a cell field or the numbers per cell (coefficients).
+struct FieldSet {
+    std::string name;
+    hsize_t per_cell;
+};
+std::vector<FieldSet> field_sets(const FluidSolver& solver) {
+    std::vector<FieldSet> f = {{"rho", 0}, {"u", 0}};
+    if (solver.mesh().dim == 2) f.push_back({"v", 0});
+    f.push_back({"p", 0});
+    if (solver.has_cavitation()) f.push_back({"void_fraction", 0});
+    if (!solver.level_set().empty()) f.push_back({"phi", 0});
+    if (!solver.structure_level_set().empty()) f.push_back({"phi_s", 0});
+    f.push_back({"coefficients", static_cast<hsize_t>(solver.variables() * solver.basis_functions())});
+    return f;
+}
+// The shape of a field set of `rows` rows of cells.
+std::vector<hsize_t> field_dims(const FluidSolver& solver, const FieldSet& f, int rows) {
+    const hsize_t nx = solver.mesh().nx;
+    if (f.per_cell > 0) return {hsize_t(rows) * nx, f.per_cell};
+    if (solver.mesh().dim == 1) return {nx};
+    return {hsize_t(rows), nx};
+}
+// The field sets of rows [j0, j1) into group g (field_sets, field_dims).
+void write_field_rows(hid_t g, const FluidSolver& solver, int j0, int j1) {
+    const int nx = solver.mesh().nx;
+    const long n = static_cast<long>(j1 - j0) * nx, first = static_cast<long>(j0) * nx;
+    const bool cavitation = solver.has_cavitation();
+    std::vector<double> rho(n), u(n), v(n), p(n), alpha(cavitation ? n : 0);
+    for (int j = j0; j < j1; ++j)
+        for (int i = 0; i < nx; ++i) {
+            const Primitive w = solver.cell_average(i, j);
+            const long k = static_cast<long>(j - j0) * nx + i;
+            rho[k] = w.rho, u[k] = w.u, v[k] = w.v, p[k] = w.p;
+            if (cavitation) alpha[k] = solver.cell_void_fraction(i, j);
+        }
+    for (const FieldSet& f : field_sets(solver)) {
+        const std::vector<hsize_t> dims = field_dims(solver, f, j1 - j0);
+        const char* name = f.name.c_str();
+        if (f.name == "rho") write_dataset(g, name, dims, rho.data());
+        if (f.name == "u") write_dataset(g, name, dims, u.data());
+        if (f.name == "v") write_dataset(g, name, dims, v.data());
+        if (f.name == "p") write_dataset(g, name, dims, p.data());
+        if (f.name == "void_fraction") write_dataset(g, name, dims, alpha.data());
+        if (f.name == "phi") write_dataset(g, name, dims, solver.level_set().data() + first);
+        if (f.name == "phi_s") write_dataset(g, name, dims, solver.structure_level_set().data() + first);
+        if (f.name == "coefficients")
+            write_dataset(g, name, dims, solver.coefficients().data() + first * long(f.per_cell));
+    }
+}
+} // namespace
+
+Object Output::begin_fields(const FluidSolver& solver, const std::vector<double>& totals, bool last_good) {
     char name[32];
     std::snprintf(name, sizeof name, "fields/%06d", count_++); // a number per try: a failed one is not reused
     Object group = create_group(file_.id(), name);
@@ -142,35 +202,63 @@ void Output::write_fields(const FluidSolver& solver, bool last_good) {
     write_attr<long>(g, "last_good", last_good ? 1 : 0);
     // ∫ U dx over the fluid (planar measure): mass, momentum, total energy; the energy balance of a coupled
     // run compares their change with the work on the structure.
-    const std::vector<double> tot = solver.totals();
-    write_attr<double>(g, "mass", tot[0]);
-    write_attr<double>(g, "energy", tot.back());
-    const long n = static_cast<long>(nx_) * ny_;
-    std::vector<double> rho(n), u(n), v(n), p(n), alpha(cavitation_ ? n : 0);
-    for (int j = 0; j < ny_; ++j)
-        for (int i = 0; i < nx_; ++i) {
-            const Primitive w = solver.cell_average(i, j);
-            const long k = static_cast<long>(j) * nx_ + i;
-            rho[k] = w.rho, u[k] = w.u, v[k] = w.v, p[k] = w.p;
-            if (cavitation_) alpha[k] = solver.cell_void_fraction(i, j);
-        }
-    std::vector<hsize_t> dims =
-        dim_ == 2 ? std::vector<hsize_t>{hsize_t(ny_), hsize_t(nx_)} : std::vector<hsize_t>{hsize_t(nx_)};
-    write_dataset(g, "rho", dims, rho.data());
-    write_dataset(g, "u", dims, u.data());
-    if (dim_ == 2) write_dataset(g, "v", dims, v.data());
-    write_dataset(g, "p", dims, p.data());
-    if (cavitation_) write_dataset(g, "void_fraction", dims, alpha.data());
-    if (level_set_) write_dataset(g, "phi", dims, solver.level_set().data());
-    if (const auto phi_s = solver.structure_level_set(); !phi_s.empty())
-        write_dataset(g, "phi_s", dims, phi_s.data());
-    const auto c = solver.coefficients();
-    const hsize_t per_cell = static_cast<hsize_t>(solver.variables() * solver.basis_functions());
-    write_dataset(g, "coefficients", {hsize_t(n), per_cell}, c.data());
+    write_attr<double>(g, "mass", totals[0]);
+    write_attr<double>(g, "energy", totals.back());
+    return group;
+}
+
+void Output::finish_fields(Object& group, double time) {
+    char name[32];
+    std::snprintf(name, sizeof name, "fields/%06d", count_ - 1);
     group.close();
-    write_gauges();                              // flushes the file
-    snapshots_.push_back({name, solver.time()}); // fluid.xmf shows what the file holds
+    write_gauges();                      // flushes the file
+    snapshots_.push_back({name, time}); // fluid.xmf shows what the file holds
     write_xdmf();
+}
+
+void Output::write_fields(const FluidSolver& solver, bool last_good) {
+    Object group = begin_fields(solver, solver.totals(), last_good);
+    write_field_rows(group.id(), solver, 0, ny_);
+    finish_fields(group, solver.time());
+}
+
+void Output::write_fields(const FluidSolver& solver, const std::vector<int>& first_row,
+                          const std::vector<double>& row_totals, bool last_good) {
+    Object group = begin_fields(solver, FluidSolver::sum_rows(row_totals, solver.variables()), last_good);
+    char name[32];
+    std::snprintf(name, sizeof name, "fields/%06d", count_ - 1); // the ranks' parts count alike
+    for (const FieldSet& f : field_sets(solver)) {
+        std::vector<h5::RowBlock> blocks;
+        const hsize_t per_row = f.per_cell > 0 ? hsize_t(nx_) : 1;
+        for (size_t r = 0; r + 1 < first_row.size(); ++r)
+            blocks.push_back({OutputPart::name(static_cast<int>(r)), std::string("/") + name + "/" + f.name,
+                              hsize_t(first_row[r]) * per_row,
+                              hsize_t(first_row[r + 1] - first_row[r]) * per_row});
+        write_virtual(group.id(), f.name.c_str(), field_dims(solver, f, ny_), blocks);
+    }
+    finish_fields(group, solver.time());
+}
+
+OutputPart::OutputPart(const std::string& directory, int rank, const std::string& case_text)
+    : file_((std::filesystem::path(directory) / name(rank)).parent_path().string(),
+            std::filesystem::path(name(rank)).filename().string(), case_text) {}
+
+std::string OutputPart::name(int rank) {
+    char name[40];
+    std::snprintf(name, sizeof name, "fluid.parts/rank%04d.h5", rank);
+    return name;
+}
+
+void OutputPart::write_fields(const FluidSolver& solver, int j0, int j1) {
+    char name[32];
+    std::snprintf(name, sizeof name, "fields/%06d", count_++);
+    if (count_ == 1) create_group(file_.id(), "fields").close();
+    Object group = create_group(file_.id(), name);
+    write_attr<long>(group.id(), "first_row", j0);
+    write_attr<long>(group.id(), "rows", j1 - j0);
+    write_field_rows(group.id(), solver, j0, j1);
+    group.close();
+    file_.flush();
 }
 
 void Output::record_gauges(const FluidSolver& solver) {

@@ -21,6 +21,9 @@
 //   face,
 //                    x, y (end of the step), p_L, u_L, p_I, u_I, area (of the positions at the start of the
 //                    step)
+// On many ranks (docs/scale_out.md) each rank writes the fields of its own rows to
+// <dir>/fluid.parts/rankNNNN.h5 (OutputPart), and the field datasets of fluid.h5 are HDF5 virtual datasets
+// that join the ranks' rows (h5::write_virtual): h5py, ParaView and undex read them as those of one rank.
 // The file is flushed after every write, so a run that stops leaves every completed output readable;
 // fluid.xmf lists the outputs flushed and is replaced whole (h5::write_file_atomically). A write that fails
 // throws h5::Error naming the file, the object and the cause.
@@ -38,9 +41,10 @@ namespace undex::fluid {
 
 class Output {
   public:
-    // Creates <directory>/fluid.h5 (replacing an older one) and fluid.xmf.
+    // Creates <directory>/fluid.h5 (replacing an older one) and fluid.xmf; the rank files of an older run
+    // that this one, on `ranks` ranks, does not write again are removed.
     Output(const std::string& directory, const std::string& case_text, const FluidSolver& solver,
-           const std::vector<GaugePoint>& gauges);
+           const std::vector<GaugePoint>& gauges, int ranks = 1);
     // Resuming from a checkpoint: the existing <directory>/fluid.h5 with what it held at the checkpoint (the
     // outputs written after it deleted), and the gauges' series so far.
     Output(const std::string& directory, const FluidSolver& solver, const std::vector<GaugePoint>& gauges,
@@ -49,6 +53,11 @@ class Output {
     Output& operator=(const Output&) = delete;
 
     void write_fields(const FluidSolver& solver, bool last_good = false);
+    // Many ranks: the same, joining the rows the ranks wrote (rank r rows [first_row[r], first_row[r + 1]),
+    // OutputPart::write_fields of this output done and flushed on every rank); row_totals: every row's
+    // (FluidSolver::row_totals, rank after rank).
+    void write_fields(const FluidSolver& solver, const std::vector<int>& first_row,
+                      const std::vector<double>& row_totals, bool last_good = false);
     // A light frame (/frames/NNNNNN): cell averages of p, rho, phi, void_fraction in single precision,
     // averaged over blocks of stride × stride cells (the last block of a row or column may be smaller).
     void write_frame(const FluidSolver& solver, int stride);
@@ -73,6 +82,9 @@ class Output {
 
   private:
     void describe(const FluidSolver& solver);
+    // fields/NNNNNN with its attributes; then the datasets, then finish_fields.
+    h5::Object begin_fields(const FluidSolver& solver, const std::vector<double>& totals, bool last_good);
+    void finish_fields(h5::Object& group, double time);
     void write_xdmf() const;
     h5::OutputFile file_;
     std::vector<GaugePoint> gauges_;
@@ -87,6 +99,25 @@ class Output {
     int dim_ = 1, nx_ = 0, ny_ = 1;
     double x_min_ = 0, y_min_ = 0, dx_ = 1, dy_ = 1;
     bool cavitation_ = false, level_set_ = false, structure_ = false;
+};
+
+// One rank's part of the field outputs of a run on many ranks: <directory>/fluid.parts/rankNNNN.h5 (an
+// h5::OutputFile: case, status) with fields/NNNNNN holding the rank's rows as fluid.h5 would, rows
+// [first_row, first_row + rows) (attributes), cell fields of shape (rows, nx) and coefficients of shape
+// (rows · nx, variables · basis_functions). Written by every rank for every output, in the same order.
+class OutputPart {
+  public:
+    OutputPart(const std::string& directory, int rank, const std::string& case_text);
+    static std::string name(int rank); // fluid.parts/rankNNNN.h5, relative to the output directory
+    void write_fields(const FluidSolver& solver, int j0, int j1);
+    void complete() { file_.complete(); }
+    void fail(const std::string& why) {
+        file_.fail(why, [] {});
+    }
+
+  private:
+    h5::OutputFile file_;
+    int count_ = 0;
 };
 
 // Reading back (for `undex-fluid --sample`; base/h5.hpp reads the rest).

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <exception>
 #include <functional>
+#include <iostream>
 #include <limits>
 #include <optional>
 #include <ostream>
@@ -187,11 +188,13 @@ class FluidRun : public Run {
         }
         if (ranks_) agree({}); // the first step and the gauges at the start
         if (root()) {
-            out_ = std::make_unique<Output>(p.directory, c.text(), *solver_, p.gauges);
+            out_ = std::make_unique<Output>(p.directory, c.text(), *solver_, p.gauges,
+                                            ranks_ ? ranks_->size() : 1);
             remove_checkpoints(p.directory, "fluid"); // of an older run in the directory
         }
+        if (ranks_) part_ = std::make_unique<OutputPart>(p.directory, ranks_->rank(), c.text());
         record();
-        if (root()) out_->write_fields(*solver_);
+        write_fields();
     }
     bool stopping() const override { return ranks_ ? stop_ : stop_requested(); }
 
@@ -260,7 +263,7 @@ class FluidRun : public Run {
             if (ranks_) { // each rank's rows to the root, not the whole state to every rank
                 const auto cells = ranks_->gather(frame_cells(*solver_, ranks_->begin(), ranks_->end()));
                 root_writes([&] { out_->write_frame(cells, solver_->time(), frame_stride_); });
-                rebalance(false);
+                rebalance();
             } else {
                 out_->write_frame(*solver_, frame_stride_);
             }
@@ -275,9 +278,8 @@ class FluidRun : public Run {
             (*link_)->heartbeat();
             keep_waiting.emplace([this] { (*link_)->heartbeat(); }, 1.0);
         }
-        solver_->share();
+        write_fields();
         root_writes([&] {
-            out_->write_fields(*solver_);
             if (link_ && link_->wet() && !last_answer_.p_I.empty()) {
                 const WetFaces& f = link_->wet()->faces();
                 for (int k = 0; k < f.nodes(); ++k)
@@ -294,6 +296,7 @@ class FluidRun : public Run {
         if (talks()) (*link_)->finalize("end time reached");
     }
     void complete() override {
+        if (part_) part_->complete();
         root_writes([&] {
             out_->write_gauges();
             write_history();
@@ -303,10 +306,28 @@ class FluidRun : public Run {
     }
     void fail(const std::string& why) override {
         if (talks()) (*link_)->fail(why); // best effort: the peer learns the cause
-        solver_->share();
+        if (!ranks_) {
+            return out_->fail(why, [&] {
+                out_->write_fields(*solver_, true);
+                write_history();
+                out_->write_gauges();
+            });
+        }
+        // Every rank is here (a failure is every rank's, agree and relay): each writes its rows.
+        std::vector<double> totals;
+        try {
+            part_->write_fields(*solver_, ranks_->begin(), ranks_->end());
+            totals = solver_->row_totals(ranks_->begin(), ranks_->end());
+            part_->fail(why);
+        } catch (const std::exception& e) {
+            std::cerr << "undex-fluid: error: rank " << ranks_->rank() << ": " << e.what() << std::endl;
+        }
+        const std::vector<double> rows = ranks_->gather(totals);
         if (!root()) return;
         out_->fail(why, [&] {
-            out_->write_fields(*solver_, true);
+            if (rows.size() != static_cast<size_t>(solver_->variables()) * solver_->mesh().ny)
+                throw h5::Error(output_path() + ": the last good state: a rank could not write its rows");
+            out_->write_fields(*solver_, first_rows(), rows, true);
             write_history();
             out_->write_gauges();
         });
@@ -334,7 +355,8 @@ class FluidRun : public Run {
     std::unique_ptr<FluidSolver> solver_;
     std::unique_ptr<StructureLink> link_;
     std::string case_text_, directory_;
-    std::unique_ptr<Output> out_; // on the root only
+    std::unique_ptr<Output> out_;      // on the root only
+    std::unique_ptr<OutputPart> part_; // many ranks: this rank's rows of the field outputs
     Ranks* ranks_;                // many ranks, else null
     std::ostream& log_;
     std::vector<GaugePoint> gauges_;
@@ -358,6 +380,29 @@ class FluidRun : public Run {
                               output_path() + " holds the outputs written before",
                           exit_method_failed);
         }
+    }
+    // A field output. Many ranks: each writes its rows to its part and flushes it, then the root joins
+    // them in fluid.h5 (after the gather: fluid.h5 never points at rows not yet flushed).
+    void write_fields() {
+        if (!ranks_) return out_->write_fields(*solver_);
+        std::vector<double> totals;
+        try {
+            part_->write_fields(*solver_, ranks_->begin(), ranks_->end());
+            totals = solver_->row_totals(ranks_->begin(), ranks_->end());
+        } catch (const std::exception& e) {
+            ranks_->abort("undex-fluid: error: rank " + std::to_string(ranks_->rank()) + ": " + e.what() +
+                              "; every rank ends; " + output_path() + " holds the outputs written before",
+                          exit_method_failed);
+        }
+        const std::vector<double> rows = ranks_->gather(totals);
+        root_writes([&] { out_->write_fields(*solver_, first_rows(), rows); });
+    }
+    std::vector<int> first_rows() const {
+        std::vector<int> f;
+        for (int r = 0; r < ranks_->size(); ++r)
+            f.push_back(ranks_->begin(r));
+        f.push_back(ranks_->end(ranks_->size() - 1));
+        return f;
     }
     // Many ranks, at the end of every step (and before the first): one MPI_Allreduce (max) agrees on the next
     // Δt (−Δt_f), on whether a rank failed in the step (its number + 1) or was asked to stop, and carries
@@ -389,16 +434,16 @@ class FluidRun : public Run {
         if (!failure) solver_->revert_step();
         throw RunFailure(exit_method_failed, "fluid rank " + std::to_string(from) + ": " + why);
     }
-    // Many ranks, after an output (the whole state shared) or a frame: the rows divided again by the cells
-    // each updates when the busiest rank has more than `threshold` times the mean.
+    // Many ranks, after an output or a frame: the rows divided again by the cells each updates when the
+    // busiest rank has more than `threshold` times the mean.
     static constexpr double threshold = 1.1;
-    void rebalance(bool shared = true) {
+    void rebalance() {
         if (!ranks_) return;
         std::vector<double> cost = solver_->row_cost();
         ranks_->max(cost);
         const double before = ranks_->imbalance(cost);
         if (before <= threshold) return;
-        if (!shared) solver_->share(); // a new division needs the whole state on every rank
+        solver_->share(); // a new division needs the whole state on every rank
         ranks_->divide(cost, solver_->halo());
         solver_->divide(ranks_);
         ++divisions_;

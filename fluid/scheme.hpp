@@ -449,12 +449,13 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         return primitive(q);
     }
 
-    std::vector<double> totals() const override {
-        std::vector<double> t(NV, 0.0);
-        for (int j = 0; j < mesh_.ny; ++j)
+    std::vector<double> row_totals(int j0, int j1) const override {
+        std::vector<double> t(static_cast<size_t>(NV) * (j1 - j0), 0.0);
+        const double vol = mesh_.dx * (D == 2 ? mesh_.dy : 1.0);
+        for (int j = j0; j < j1; ++j)
             for (int i = 0; i < mesh_.nx; ++i)
                 for (int v = 0; v < NV; ++v)
-                    t[v] += cell(u_.data(), i, j)[v * NB] * mesh_.dx * (D == 2 ? mesh_.dy : 1.0);
+                    t[NV * (j - j0) + v] += cell(u_.data(), i, j)[v * NB] * vol;
         return t;
     }
 

@@ -84,8 +84,18 @@ class FluidSolver {
     virtual bool has_cavitation() const = 0;
     // Void fraction of the cell average of interior cell (i, j) (0 in a cell of a fluid without cavitation).
     virtual double cell_void_fraction(int i, int j) const { return void_fraction(cell_average(i, j).p); }
-    // Total mass, momentum and energy (∫U dx over the interior, planar measure).
-    virtual std::vector<double> totals() const = 0;
+    // ∫U dx (mass, momentum, total energy; planar measure) over each row j of [j0, j1) of the interior:
+    // variables() numbers per row, row after row.
+    virtual std::vector<double> row_totals(int j0, int j1) const = 0;
+    // The same over the whole interior: the rows' sums added in row order (so that many ranks, each giving
+    // its rows, get the same sums bit for bit; sum_rows).
+    std::vector<double> totals() const { return sum_rows(row_totals(0, mesh().ny), variables()); }
+    static std::vector<double> sum_rows(const std::vector<double>& rows, int nv) {
+        std::vector<double> t(nv, 0.0);
+        for (size_t k = 0; k < rows.size(); ++k)
+            t[k % nv] += rows[k];
+        return t;
+    }
     // Number of cells the indicator marked in the last step (all stages).
     virtual long troubled_cells() const = 0;
     // Number of cells the Zhang–Shu positivity scaling changed in the last step (all stages).

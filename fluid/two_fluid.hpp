@@ -268,14 +268,17 @@ class TwoFluid final : public FluidSolver {
     Primitive cell_average(int i, int j) const override {
         return phi_(i, j) < 0 ? minus_.cell_average(i, j) : plus_.cell_average(i, j);
     }
-    std::vector<double> totals() const override {
-        std::vector<double> t(variables(), 0.0);
+    std::vector<double> row_totals(int j0, int j1) const override {
+        const int nv = variables(), nb = basis_functions(), nc = nv * nb;
+        std::vector<double> t(static_cast<size_t>(nv) * (j1 - j0), 0.0);
         const auto c = coefficients();
-        const int nb = basis_functions(), nc = variables() * nb;
         const double vol = mesh_.dx * (D == 2 ? mesh_.dy : 1.0);
-        for (long k = 0; k < static_cast<long>(mesh_.nx) * mesh_.ny; ++k)
-            for (int v = 0; v < variables(); ++v)
-                t[v] += c[k * nc + v * nb] * vol;
+        for (int j = j0; j < j1; ++j)
+            for (int i = 0; i < mesh_.nx; ++i) {
+                const long k = static_cast<long>(j) * mesh_.nx + i;
+                for (int v = 0; v < nv; ++v)
+                    t[nv * (j - j0) + v] += c[k * nc + v * nb] * vol;
+            }
         return t;
     }
 

@@ -311,11 +311,11 @@ template <int K, class M> class WetFluid final : public WetSolver {
     }
 
     // Mass, momentum and energy of the real cells of every face's fluid.
-    std::vector<double> totals() const override {
-        if (sides_.empty()) return base_->totals();
-        std::vector<double> t(variables(), 0.0);
-        for (const auto& sd : sides_)
-            for (int j = 0; j < mesh_.ny; ++j)
+    std::vector<double> row_totals(int j0, int j1) const override {
+        if (sides_.empty()) return base_->row_totals(j0, j1);
+        std::vector<double> t(4L * (j1 - j0), 0.0);
+        for (int j = j0; j < j1; ++j)
+            for (const auto& sd : sides_)
                 for (int i = 0; i < mesh_.nx; ++i) {
                     if (!(sd->phi[at(i, j)] < 0)) continue;
                     double q[4];
@@ -323,7 +323,7 @@ template <int K, class M> class WetFluid final : public WetSolver {
                         euler::to_conserved<2>(sc.eos(), sc.cell_average(i, j), q);
                     });
                     for (int v = 0; v < 4; ++v)
-                        t[v] += q[v] * mesh_.dx * mesh_.dy;
+                        t[4 * (j - j0) + v] += q[v] * mesh_.dx * mesh_.dy;
                 }
         return t;
     }

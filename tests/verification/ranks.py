@@ -1,7 +1,11 @@
 #!/usr/bin/python3
 """The fluid on many MPI ranks (`undex run --ranks N`, fluid/ranks.hpp, docs/scale_out.md) gives the answer
-of one rank to the last bit: every floating-point dataset of fluid.h5 (fields with their DG coefficients,
-gauges) is compared with np.array_equal against the run on one rank. Bitwise, not to a tolerance: each cell
+of one rank to the last bit: every floating-point dataset and attribute of fluid.h5 (fields with their DG
+coefficients, mass and energy, gauges) is compared with np.array_equal against the run on one rank. On many
+ranks the field datasets of fluid.h5 join the rows each rank wrote to fluid.parts/rankNNNN.h5 (HDF5 virtual
+datasets); checked: they are virtual on many ranks, one block per rank covering every row, and stored in
+fluid.h5 on one; `undex sample` of a copied 4-rank run directory, from another working directory, prints the
+one-rank run's text. Bitwise, not to a tolerance: each cell
 is computed by one rank with the same operations in the same order as on one rank, halos are copies, and
 the one reduction per step (Δt, the gauges) is a maximum, exact in any order.
 
@@ -70,19 +74,48 @@ def run(case, name, ranks, sets, more=()):
 
 
 def datasets(path):
+    """The float datasets and the float attributes (time, mass, energy, ...) of a file, by name."""
     out = {}
+
+    def visit(n, o):
+        if isinstance(o, h5py.Dataset) and o.dtype.kind == "f":
+            out[n] = o[()]
+        for k, v in o.attrs.items():
+            if np.asarray(v).dtype.kind == "f":
+                out[n + "@" + k] = np.asarray(v)
     with h5py.File(path, "r") as f:
-        f.visititems(lambda n, o: out.__setitem__(n, o[()]) if isinstance(o, h5py.Dataset)
-                     and o.dtype.kind == "f" else None)
+        f.visititems(visit)
     return out
 
 
 def same(name, reference, other, side="fluid"):
     a, b = (datasets(os.path.join(work, d, side + ".h5")) for d in (reference, other))
     differ = [k for k in a if k not in b or a[k].shape != b[k].shape or not np.array_equal(a[k], b[k])]
-    check("%s: %d float datasets of %s.h5 bitwise the same as one rank%s" % (
-        name, len(a), side, "; differ: " + ", ".join(differ[:5]) if differ else ""),
-        len(a) > 10 and not differ)
+    sets = sum("@" not in k for k in a)
+    check("%s: %d float datasets and %d float attributes of %s.h5 bitwise the same as one rank%s" % (
+        name, sets, len(a) - sets, side, "; differ: " + ", ".join(differ[:5]) if differ else ""),
+        sets > 10 and not differ)
+
+
+def joined(tag, ranks):
+    """Whether every field dataset of TAG's fluid.h5 joins the ranks' rows from fluid.parts/rankNNNN.h5 (an
+    HDF5 virtual dataset: one block of rows per rank, together all the rows) on many ranks, and is stored in
+    fluid.h5 itself on one."""
+    with h5py.File(os.path.join(work, tag, "fluid.h5"), "r") as f:
+        for g in f["fields"].values():
+            for d in g.values():
+                if ranks == 1:
+                    if d.is_virtual:
+                        return False
+                    continue
+                if not d.is_virtual:
+                    return False
+                blocks = d.virtual_sources()
+                files = sorted(b.file_name for b in blocks)
+                rows = sum(b.vspace.get_select_npoints() for b in blocks)
+                if files != ["fluid.parts/rank%04d.h5" % r for r in range(ranks)] or rows != d.size:
+                    return False
+    return True
 
 
 riemann = ["domain.cells_x=64", "domain.cells_y=64", "end_time=0.05", "output.times[0]=0.025",
@@ -129,6 +162,17 @@ for tag, sets, counts in (("bubble", bubble, (1, 2, 4)), ("bubble_paper", paper,
             print(log)
     for n in counts[1:]:
         same("case 4.4 (%s) on %d ranks" % (tag, n), "%s_1" % tag, "%s_%d" % (tag, n))
+    for n in counts:
+        check("case 4.4 (%s) on %d rank(s): fields %s" % (
+            tag, n, "in fluid.h5" if n == 1 else "joined from the ranks' files"), joined("%s_%d" % (tag, n), n))
+# A reader elsewhere (another working directory, a copy of the run directory) sees what one rank wrote.
+copy = os.path.join(work, "copied", "bubble_4")
+shutil.copytree(os.path.join(work, "bubble_4"), copy)
+sample = [os.path.join(bin_dir, "undex"), "sample", "--time", "1", "--line", "0,0 1,1", "--points", "7"]
+one, four = (subprocess.run(sample + [d], capture_output=True, text=True, cwd="/")
+             for d in (os.path.join(work, "bubble_1"), copy))
+check("case 4.4: undex sample of a copy of the run on 4 ranks, from /, prints what it does of one rank",
+      one.returncode == 0 and four.returncode == 0 and one.stdout == four.stdout and len(one.stdout) > 100)
 
 
 # Coupled to the structure: case 4.5 (a water-backed sandwich plate, one fluid on each side of it) at 0.02 m,
@@ -151,6 +195,7 @@ for tag, case, sets, more, n in (("plate", "sandwich_plate_water_backed_2d.case"
 for tag, reference in (("plate_2", "plate_1"), ("plate_tcp_2", "plate_1"), ("app_2", "app_1")):
     for side in ("fluid", "solid"):
         same("coupled %s on 2 ranks" % tag, reference, tag, side)
+    check("coupled %s: fields joined from the ranks' files" % tag, joined(tag, 2))
 
 
 def rank_pid(rank, tag):
