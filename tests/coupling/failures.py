@@ -12,6 +12,7 @@ start-up and launcher grace.
 """
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -33,7 +34,10 @@ def make_case(name, source, structure=None, extra="", refine=1):
     """The case file SOURCE written for this test; REFINE multiplies its fluid cells (a run stopped by a
     signal mid-way must still be stepping a second or two after it started)."""
     out = os.path.join(WORK, name)
-    os.makedirs(out, exist_ok=True)
+    # A fresh directory: the waits below read the run's log and output, and an older run's (a test run
+    # before this one) would end them before this run has written its own.
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
     text = open(os.path.join(CASES, source)).read()
     text = re.sub(r"cells_x: (\d+)", lambda m: f"cells_x: {int(m.group(1)) * refine}", text)
     if structure is not None:
