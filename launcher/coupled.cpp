@@ -76,16 +76,17 @@ std::vector<std::vector<std::string>> command_lines(const CoupledRun& r, const s
 // Starts both sides (when the second cannot start, the first is killed) and opens their logs. Each learns
 // undex's pid and the path of its log (base/signals.hpp).
 void start(Child (&children)[2], const std::vector<std::vector<std::string>>& lines, const std::string& dir,
-           bool resumed) {
+           bool resumed, const std::vector<std::string>& structure_env) {
     children[0].name = "fluid";
     children[1].name = "solid";
     try {
         for (int k = 0; k < 2; ++k) {
             const auto log =
                 std::filesystem::absolute(std::filesystem::path(dir) / (children[k].name + ".log"));
-            spawn(children[k], lines[k],
-                  {std::string(launcher_pid_env) + "=" + std::to_string(getpid()),
-                   std::string(launcher_log_env) + "=" + log.string()});
+            std::vector<std::string> env = {std::string(launcher_pid_env) + "=" + std::to_string(getpid()),
+                                            std::string(launcher_log_env) + "=" + log.string()};
+            if (k == 1) env.insert(env.end(), structure_env.begin(), structure_env.end());
+            spawn(children[k], lines[k], env);
         }
     } catch (...) {
         if (children[0].pid > 0) kill(-children[0].pid, SIGKILL), reap(children[0], true);
@@ -190,7 +191,7 @@ int run_coupled(const CoupledRun& r) {
     Child children[2];
     std::cout << "undex: " << r.case_path << ": coupled run over " << endpoint << "; logs " << r.directory
               << "/fluid.log, " << r.directory << "/solid.log" << std::endl;
-    start(children, command_lines(r, endpoint), r.directory, !r.fluid_resume.empty());
+    start(children, command_lines(r, endpoint), r.directory, !r.fluid_resume.empty(), r.structure_env);
     Supervisor(children).run();
     int code = 0;
     for (const auto& ch : children)

@@ -20,6 +20,7 @@ struct CoupledRun {
     // undex run --resume: the checkpoints each side continues from (base/checkpoint.hpp); "" for a new run.
     std::string fluid_resume, structure_resume;
     std::vector<std::string> fluid_prefix; // what starts the fluid: mpirun and its options on many ranks
+    std::vector<std::string> structure_env; // NAME=VALUE set for the structure's process
 };
 
 // Locks DIR for the run (both sides share the lock), runs both sides, their output interleaved on stdout

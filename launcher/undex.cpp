@@ -31,6 +31,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <iostream>
 #include <limits>
 #include <string>
@@ -122,6 +123,8 @@ int run(CaseRequest r, const std::string& endpoint, bool tcp, bool force, const 
                        force};
         if (!st.has_command()) run.command.clear();
         if (ranks > 1) run.fluid_prefix = mpirun_prefix(ranks, c.get().numerics().threads(), hosts);
+        // The fluid takes the cores; the structure's threads would only compete with it (proto/case.proto).
+        if (st.threads() == 0 && !std::getenv("OMP_NUM_THREADS")) run.structure_env = {"OMP_NUM_THREADS=1"};
         if (!resume.empty()) {
             if (!run.command.empty())
                 throw undex::UsageError(
