@@ -39,6 +39,7 @@ struct Watch {
     std::atomic<int> peer[2] = {-1, -1};
     std::atomic<const char*> what{"a halo exchange"}; // what the wait on peer is
     std::atomic<bool> done{false};
+    double waited[Ranks::wait_kinds] = {}; // seconds in all, by kind (Ranks::waits)
     double limit = 0;
     bool (*stopped)() = nullptr;
     long signalled = 0; // when stopped() was first seen true
@@ -88,16 +89,23 @@ Watch& watch_state() {
     static Watch w;
     return w;
 }
-// A wait under the watch, on ranks a and b (−1: none; both −1: every rank), `what` naming it.
+// A wait under the watch, of a kind (Ranks::waits), on ranks a and b (−1: none; both −1: every rank),
+// `what` naming it.
 struct Waiting {
-    explicit Waiting(int a = -1, int b = -1, const char* what = "a halo exchange") {
+    explicit Waiting(int kind, int a = -1, int b = -1, const char* what = "a halo exchange") : kind(kind) {
         Watch& w = watch_state();
         w.peer[0] = a, w.peer[1] = b;
         w.what = what;
         w.since = Watch::now();
     }
-    ~Waiting() { watch_state().since = 0; }
+    ~Waiting() {
+        Watch& w = watch_state();
+        w.waited[kind] += (Watch::now() - w.since) * 1e-9;
+        w.since = 0;
+    }
+    int kind;
 };
+enum { halo_wait, reduction_wait, broadcast_wait, gather_wait };
 
 // MPI counts and offsets are int: a message beyond 2^31 − 1 elements is refused, not truncated.
 int mpi_count(long n) {
@@ -168,7 +176,7 @@ template <class T> void Ranks::exchange_rows(T* rows, long row, int depth) const
     if (size_ == 1 || depth <= 0) return;
     MPI_Request q[4];
     post_rows(rows, row, depth, q);
-    Waiting w(rank_ > 0 ? rank_ - 1 : -1, rank_ + 1 < size_ ? rank_ + 1 : -1);
+    Waiting w(halo_wait, rank_ > 0 ? rank_ - 1 : -1, rank_ + 1 < size_ ? rank_ + 1 : -1);
     MPI_Waitall(4, q, MPI_STATUSES_IGNORE);
 }
 // The four messages of one exchange (exchange()): the first and last `depth` rows of the block (padded row
@@ -193,7 +201,7 @@ void Ranks::exchange(const std::vector<Rows>& x) const {
     std::vector<MPI_Request> q(4 * x.size());
     for (size_t k = 0; k < x.size(); ++k)
         post_rows(x[k].rows, x[k].row, x[k].depth, &q[4 * k]);
-    Waiting w(rank_ > 0 ? rank_ - 1 : -1, rank_ + 1 < size_ ? rank_ + 1 : -1);
+    Waiting w(halo_wait, rank_ > 0 ? rank_ - 1 : -1, rank_ + 1 < size_ ? rank_ + 1 : -1);
     MPI_Waitall(static_cast<int>(q.size()), q.data(), MPI_STATUSES_IGNORE);
 }
 void Ranks::exchange(char* rows, long row, int depth) const {
@@ -206,7 +214,7 @@ template <class T> void Ranks::share_rows(T* rows, long row) const {
     for (int r = 0; r < size_; ++r)
         count[r] = mpi_count((first_[r + 1] - first_[r]) * row),
         offset[r] = mpi_count((first_[r] + 1) * row);
-    Waiting w;
+    Waiting w(gather_wait, -1, -1, "a share of the state");
     MPI_Allgatherv(MPI_IN_PLACE, 0, type<T>(), rows, count.data(), offset.data(), type<T>(), MPI_COMM_WORLD);
 }
 void Ranks::share(double* rows, long row) const {
@@ -218,7 +226,7 @@ void Ranks::share(char* rows, long row) const {
 
 void Ranks::max(std::vector<double>& v) const {
     if (size_ == 1) return;
-    Waiting w;
+    Waiting w(reduction_wait, -1, -1, "a reduction");
     MPI_Allreduce(MPI_IN_PLACE, v.data(), mpi_count(static_cast<long>(v.size())), MPI_DOUBLE, MPI_MAX,
                   MPI_COMM_WORLD);
 }
@@ -226,7 +234,7 @@ void Ranks::max(std::vector<double>& v) const {
 long Ranks::sum(long v) const {
     if (size_ == 1) return v;
     long s = 0;
-    Waiting w;
+    Waiting w(reduction_wait, -1, -1, "a reduction");
     MPI_Allreduce(&v, &s, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
     return s;
 }
@@ -235,7 +243,7 @@ long Ranks::sum(long v) const {
 std::string Ranks::broadcast(const std::string& text, int from) const {
     if (size_ == 1) return text;
     int n = mpi_count(static_cast<long>(text.size()));
-    Waiting w(from == 0 && !root() ? 0 : -1, -1, "a broadcast from it");
+    Waiting w(broadcast_wait, from == 0 && !root() ? 0 : -1, -1, "a broadcast from it");
     MPI_Bcast(&n, 1, MPI_INT, from, MPI_COMM_WORLD);
     std::string out = rank_ == from ? text : std::string(n, '\0');
     MPI_Bcast(out.data(), n, MPI_CHAR, from, MPI_COMM_WORLD);
@@ -245,7 +253,7 @@ std::string Ranks::broadcast(const std::string& text, int from) const {
 std::vector<double> Ranks::broadcast(const std::vector<double>& v, int from) const {
     if (size_ == 1) return v;
     long n = static_cast<long>(v.size());
-    Waiting w(from == 0 && !root() ? 0 : -1, -1, "a broadcast from it");
+    Waiting w(broadcast_wait, from == 0 && !root() ? 0 : -1, -1, "a broadcast from it");
     MPI_Bcast(&n, 1, MPI_LONG, from, MPI_COMM_WORLD);
     std::vector<double> out = rank_ == from ? v : std::vector<double>(n);
     MPI_Bcast(out.data(), mpi_count(n), MPI_DOUBLE, from, MPI_COMM_WORLD);
@@ -256,7 +264,7 @@ std::vector<double> Ranks::gather(const std::vector<double>& v) const {
     if (size_ == 1) return v;
     const int n = mpi_count(static_cast<long>(v.size()));
     std::vector<int> count(size_), offset(size_);
-    Waiting w;
+    Waiting w(gather_wait, -1, -1, "a gather to rank 0");
     MPI_Gather(&n, 1, MPI_INT, count.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
     std::vector<double> out;
     if (root()) {
@@ -275,7 +283,7 @@ std::vector<double> Ranks::gather_all(const std::vector<double>& mine, const std
     for (int r = 1; r < size_; ++r)
         offset[r] = mpi_count(static_cast<long>(offset[r - 1]) + count[r - 1]);
     std::vector<double> out(static_cast<size_t>(offset[size_ - 1]) + count[size_ - 1]);
-    Waiting w;
+    Waiting w(gather_wait, -1, -1, "a gather");
     MPI_Allgatherv(mine.data(), count[rank_], MPI_DOUBLE, out.data(), count.data(), offset.data(), MPI_DOUBLE,
                    MPI_COMM_WORLD);
     return out;
@@ -291,6 +299,11 @@ void Ranks::watch(double seconds, bool (*stopped)()) const {
 
 void Ranks::at_step(long step) const {
     watch_state().step = step;
+}
+
+std::vector<double> Ranks::waits() const {
+    const Watch& w = watch_state();
+    return std::vector<double>(w.waited, w.waited + wait_kinds);
 }
 
 void Ranks::abort(const std::string& why, int status) const {

@@ -65,6 +65,10 @@ class Ranks {
     // thread of its own watches.
     void watch(double seconds, bool (*stopped)() = nullptr) const;
     void at_step(long step) const;
+    // Seconds this rank has waited in all in the halo exchanges, the reductions, the broadcasts and the
+    // gathers (and shares of the state), in that order: its idle time, for the run's summary.
+    static constexpr int wait_kinds = 4;
+    std::vector<double> waits() const;
 
     // Ends every rank at once (MPI_Abort), after `why` on stderr: for a rank that cannot go on alone.
     [[noreturn]] void abort(const std::string& why, int status) const;

@@ -12,12 +12,14 @@
 #include "fluid/wet_faces.hpp"
 #include "proto/case.pb.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <ostream>
 #include <sstream>
@@ -341,7 +343,23 @@ class FluidRun : public Run {
         if (skipped > 0)
             out += format("; %.1f %% of %.4g cell updates skipped (still water)", 100.0 * skipped / updates,
                           double(updates));
-        if (ranks_) out += format("; %g ranks, rows divided %g time(s)", ranks_->size(), divisions_);
+        if (ranks_) {
+            out += format("; %g ranks, rows divided %g time(s)", ranks_->size(), divisions_);
+            // Each rank's idle time (up to 4 ranks; beyond, the least and the most idle).
+            const std::vector<double> w = ranks_->gather(ranks_->waits());
+            const int n = Ranks::wait_kinds;
+            std::vector<std::pair<double, int>> idle;
+            for (int r = 0; r * n < static_cast<int>(w.size()); ++r)
+                idle.push_back({std::accumulate(w.begin() + r * n, w.begin() + (r + 1) * n, 0.0), r});
+            if (idle.size() > 4) {
+                std::sort(idle.begin(), idle.end());
+                idle = {idle.front(), idle.back()};
+            }
+            for (const auto& [total, r] : idle)
+                out += format("; rank %g waited %.3f s", r, total) +
+                       format(" (halo %.3f, reductions %.3f, broadcasts %.3f, gathers %.3f)", w[r * n],
+                              w[r * n + 1], w[r * n + 2], w[r * n + 3]);
+        }
         if (!link_) return out.empty() ? out : " (" + out.substr(2) + ")";
         out = format("coupling %.3f s, %.1f %%", coupling_wall_, 100 * coupling_wall_ / wall) + out;
         if (link_->wet()) out += format("; wet faces %.3f s, %.1f %%", faces_wall_, 100 * faces_wall_ / wall);

@@ -192,6 +192,9 @@ for tag, case, sets, more, n in (("plate", "sandwich_plate_water_backed_2d.case"
         print(log)
     if tag == "plate_tcp":
         check("plate_tcp: coupled over tcp://", "coupled run over tcp://" in log)
+    if n == 2:
+        check("%s on 2 ranks: the summary gives each rank's waits" % tag,
+              all("rank %d waited " % r in log for r in (0, 1)) and "(halo " in log)
 for tag, reference in (("plate_2", "plate_1"), ("plate_tcp_2", "plate_1"), ("app_2", "app_1")):
     for side in ("fluid", "solid"):
         same("coupled %s on 2 ranks" % tag, reference, tag, side)
