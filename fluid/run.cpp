@@ -197,6 +197,7 @@ class FluidRun : public Run {
         if (ranks_) part_ = std::make_unique<OutputPart>(p.directory, ranks_->rank(), c.text());
         record();
         write_fields();
+        if (ranks_) start_measuring(); // the steps' time, not the set-up's
     }
     bool stopping() const override { return ranks_ ? stop_ : stop_requested(); }
 
@@ -452,12 +453,17 @@ class FluidRun : public Run {
         if (!failure) solver_->revert_step();
         throw RunFailure(exit_method_failed, "fluid rank " + std::to_string(from) + ": " + why);
     }
-    // Many ranks, after an output or a frame: the rows divided again by the cells each updates when the
-    // busiest rank has more than `threshold` times the mean.
+    // Many ranks, after an output or a frame: the rows divided again when the busiest rank has more than
+    // `threshold` times the mean cost. A row costs the cells it updates, weighted by its rank's measured
+    // time per cell update since the last division (relative to the mean): cells near an interface or the
+    // structure cost more than open water, the root also writes the output, and cores differ in speed.
     static constexpr double threshold = 1.1;
     void rebalance() {
         if (!ranks_) return;
+        const std::vector<double> speed = time_per_update();
         std::vector<double> cost = solver_->row_cost();
+        for (double& c : cost)
+            c *= speed[ranks_->rank()]; // rows of other ranks are 0 here
         ranks_->max(cost);
         const double before = ranks_->imbalance(cost);
         if (before <= threshold) return;
@@ -465,9 +471,44 @@ class FluidRun : public Run {
         ranks_->divide(cost, solver_->halo());
         solver_->divide(ranks_);
         ++divisions_;
+        std::string weights;
+        for (size_t r = 0; r < speed.size() && r < 8; ++r)
+            weights += format(r ? ", %.3f" : "%.3f", speed[r]);
         log_ << "undex-fluid: rows divided again at t = " << format("%.6g", solver_->time())
              << format(" s: busiest rank %.3f of the mean, now %.3f", before, ranks_->imbalance(cost))
-             << std::endl;
+             << " (time per cell update by rank, relative: " << weights << (speed.size() > 8 ? ", …" : "")
+             << ")" << std::endl;
+        start_measuring();
+    }
+    // Since the last division: when it was, this rank's waits and cell updates then.
+    std::chrono::steady_clock::time_point divided_at_ = std::chrono::steady_clock::now();
+    double waited_at_division_ = 0;
+    long solved_at_division_ = 0;
+    long solved() const { return solver_->cell_updates() - solver_->cell_updates_skipped(); }
+    void start_measuring() {
+        divided_at_ = std::chrono::steady_clock::now();
+        const auto w = ranks_->waits();
+        waited_at_division_ = std::accumulate(w.begin(), w.end(), 0.0);
+        solved_at_division_ = solved();
+    }
+    // Every rank's wall time less its waits, per cell it updated, since the last division, over the mean of
+    // the ranks (1 for a rank that updated none).
+    std::vector<double> time_per_update() const {
+        const auto w = ranks_->waits();
+        const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - divided_at_;
+        const double busy = wall.count() - (std::accumulate(w.begin(), w.end(), 0.0) - waited_at_division_);
+        const long cells = solved() - solved_at_division_;
+        const double none = -std::numeric_limits<double>::infinity();
+        std::vector<double> t(ranks_->size(), none);
+        if (cells > 0 && busy > 0) t[ranks_->rank()] = busy / cells;
+        ranks_->max(t);
+        double sum = 0;
+        int n = 0;
+        for (double x : t)
+            if (x > none) sum += x, ++n;
+        for (double& x : t)
+            x = n > 0 && x > none ? x / (sum / n) : 1.0;
+        return t;
     }
     bool at_step_end_ = true; // false from the structure's offer (the wet faces moved) to the step's end
     // The solver and the run's own records (the output's are Output::state).
