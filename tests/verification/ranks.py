@@ -192,6 +192,9 @@ for tag, case, sets, more, n in (("plate", "sandwich_plate_water_backed_2d.case"
         print(log)
     if tag == "plate_tcp":
         check("plate_tcp: coupled over tcp://", "coupled run over tcp://" in log)
+    # structure.threads is 0 in the case: undex run gives the structure one thread beside the fluid's ranks.
+    solid_log = open(os.path.join(work, "%s_%d" % (tag, n), "solid.log")).read()
+    check("%s on %d rank(s): the structure on one thread" % (tag, n), ", 1 thread(s)," in solid_log)
     if n == 2:
         check("%s on 2 ranks: the summary gives each rank's waits" % tag,
               all("rank %d waited " % r in log for r in (0, 1)) and "(halo " in log)
