@@ -39,6 +39,7 @@ class LevelSet {
         s.io("tube_cells", tube_cells_);
         s.io("tube", tube_);
         s.io("near", near_);
+        grouped_ = false;
         s.io("reads", reads_);
         s.io("mark", mark_);
     }
@@ -74,6 +75,7 @@ class LevelSet {
     void divide(const Ranks* r) {
         ranks_ = r && r->many() ? r : nullptr;
         owner_.clear();
+        grouped_ = false;
         if (!ranks_) return;
         owner_.resize(ny_);
         for (int k = 0; k < ranks_->size(); ++k)
@@ -86,26 +88,22 @@ class LevelSet {
     // to every rank, and theirs into this rank's (one MPI_Allgatherv, listed in the order of near_tube()).
     void gather_near(const std::vector<double*>& fields) const {
         if (!ranks_) return;
+        group();
         const int me = ranks_->rank(), nf = static_cast<int>(fields.size());
-        std::vector<int> count(ranks_->size(), 0);
-        std::vector<double> mine;
-        for (const int c : near_) {
-            const int r = owner_[c / nx_];
-            count[r] += nf;
-            if (r == me)
-                for (const double* f : fields)
-                    mine.push_back(f[c]);
-        }
-        const std::vector<double> all = ranks_->gather_all(mine, count);
-        std::vector<long> at(ranks_->size(), 0);
-        for (int r = 1; r < ranks_->size(); ++r)
-            at[r] = at[r - 1] + count[r - 1];
-        for (const int c : near_) {
-            const int r = owner_[c / nx_];
-            if (r != me)
+        std::vector<int> count(ranks_->size());
+        for (int r = 0; r < ranks_->size(); ++r)
+            count[r] = (group_[r + 1] - group_[r]) * nf;
+        send_.resize(own_.size() * nf);
+        for (size_t k = 0; k < own_.size(); ++k)
+            for (int f = 0; f < nf; ++f)
+                send_[k * nf + f] = fields[f][own_[k]];
+        ranks_->gather_all(send_, count, recv_);
+        // recv_ holds the groups of by_rank_ in its order, nf values per cell.
+        for (int r = 0; r < ranks_->size(); ++r) {
+            if (r == me) continue;
+            for (int k = group_[r]; k < group_[r + 1]; ++k)
                 for (int f = 0; f < nf; ++f)
-                    fields[f][c] = all[at[r] + f];
-            at[r] += nf;
+                    fields[f][by_rank_[k]] = recv_[static_cast<long>(k) * nf + f];
         }
     }
 
@@ -299,7 +297,10 @@ class LevelSet {
     std::vector<char> mark_;
     // Many ranks (divide): the rank of each row; in rk3, the cells of near_ this rank computes (own_).
     const Ranks* ranks_ = nullptr;
-    std::vector<int> owner_, own_;
+    std::vector<int> owner_;
+    mutable std::vector<int> own_, by_rank_, group_;
+    mutable bool grouped_ = false;
+    mutable std::vector<double> send_, recv_; // gather_near's messages
     // The cells a rate is computed for (after own_cells): this rank's own, or near_ on one rank.
     const std::vector<int>& work() const { return ranks_ ? own_ : near_; }
 
@@ -321,6 +322,7 @@ class LevelSet {
             for (const int c : reads_)
                 mark_[c] = 0;
         tube_ = s.tube, near_ = s.near, reads_ = s.reads;
+        grouped_ = false;
         for (size_t k = 0; k < reads_.size(); ++k)
             phi_[reads_[k]] = s.values[k];
         if (tube_cells_ > 0) {
@@ -335,6 +337,7 @@ class LevelSet {
     // The tube from φ: from every cell (full) or from near_, the only cells whose φ changed since the last
     // rebuild. Cells leaving the tube take ±tube_width(); a NaN stays in the tube, to be seen.
     void rebuild_tube(bool full) {
+        grouped_ = false;
         const int n = nx_ * ny_;
         if (tube_cells_ == 0) {
             if (static_cast<int>(tube_.size()) != n) {
@@ -492,10 +495,26 @@ class LevelSet {
 
     // The cells of near_ this rank computes (work()), for the rk3 that follow.
     void own_cells() {
-        if (!ranks_) return;
-        own_.clear();
+        if (ranks_) group();
+    }
+    // Many ranks: near_ grouped by the rank of its row, each group in the order of near_ (by_rank_, group r
+    // at [group_[r], group_[r + 1])), and this rank's group (own_): made again only after near_ or the
+    // division changed (grouped_ false), not at each of a step's gathers.
+    void group() const {
+        if (grouped_) return;
+        const int size = ranks_->size();
+        group_.assign(size + 1, 0);
         for (const int c : near_)
-            if (owner_[c / nx_] == ranks_->rank()) own_.push_back(c);
+            ++group_[owner_[c / nx_] + 1];
+        for (int r = 0; r < size; ++r)
+            group_[r + 1] += group_[r];
+        std::vector<int> at(group_.begin(), group_.end() - 1);
+        by_rank_.resize(near_.size());
+        for (const int c : near_)
+            by_rank_[at[owner_[c / nx_]]++] = c;
+        const int me = ranks_->rank();
+        own_.assign(by_rank_.begin() + group_[me], by_rank_.begin() + group_[me + 1]);
+        grouped_ = true;
     }
     // Shu–Osher TVD-RK3 on phi_ with the rate L(φ) computed by `rate_of(φ, L)` over the cells of work()
     // (own_cells). The rate is needed on near_ only, and changes φ there; in a tube the stage holds φ on

@@ -277,16 +277,19 @@ std::vector<double> Ranks::gather(const std::vector<double>& v) const {
     return out;
 }
 
-std::vector<double> Ranks::gather_all(const std::vector<double>& mine, const std::vector<int>& count) const {
-    if (size_ == 1) return mine;
+void Ranks::gather_all(const std::vector<double>& mine, const std::vector<int>& count,
+                       std::vector<double>& out) const {
+    if (size_ == 1) {
+        out = mine;
+        return;
+    }
     std::vector<int> offset(size_, 0);
     for (int r = 1; r < size_; ++r)
         offset[r] = mpi_count(static_cast<long>(offset[r - 1]) + count[r - 1]);
-    std::vector<double> out(static_cast<size_t>(offset[size_ - 1]) + count[size_ - 1]);
+    out.resize(static_cast<size_t>(offset[size_ - 1]) + count[size_ - 1]);
     Waiting w(gather_wait, -1, -1, "a gather");
     MPI_Allgatherv(mine.data(), count[rank_], MPI_DOUBLE, out.data(), count.data(), offset.data(), MPI_DOUBLE,
                    MPI_COMM_WORLD);
-    return out;
 }
 
 void Ranks::watch(double seconds, bool (*stopped)()) const {

@@ -55,8 +55,10 @@ class Ranks {
     std::vector<double> broadcast(const std::vector<double>& v, int from) const;
     // Gathers variable-length data to the root (rank order); other ranks get {}.
     std::vector<double> gather(const std::vector<double>& v) const;
-    // Every rank's `mine` on every rank, in rank order; count[r]: the length of rank r's (known to all).
-    std::vector<double> gather_all(const std::vector<double>& mine, const std::vector<int>& count) const;
+    // Every rank's `mine` into `out` on every rank, in rank order; count[r]: the length of rank r's (known
+    // to all).
+    void gather_all(const std::vector<double>& mine, const std::vector<int>& count,
+                    std::vector<double>& out) const;
 
     // A rank left waiting on the others (one hangs, or died unnoticed): from now on, once one exchange or
     // reduction has waited `seconds`, this rank says what it waits on and in which step (at_step) on stderr

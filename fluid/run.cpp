@@ -457,9 +457,11 @@ class FluidRun : public Run {
     // `threshold` times the mean cost. A row costs the cells it updates, weighted by its rank's measured
     // time per cell update since the last division (relative to the mean): cells near an interface or the
     // structure cost more than open water, the root also writes the output, and cores differ in speed.
-    static constexpr double threshold = 1.1;
+    // No new division before a step was measured since the last (an output and a frame at the same time):
+    // without measured times the weights would fall back to 1 and move the rows back.
+    static constexpr double threshold = 1.05;
     void rebalance() {
-        if (!ranks_) return;
+        if (!ranks_ || solver_->steps() == steps_at_division_) return;
         const std::vector<double> speed = time_per_update();
         std::vector<double> cost = solver_->row_cost();
         for (double& c : cost)
@@ -471,6 +473,7 @@ class FluidRun : public Run {
         ranks_->divide(cost, solver_->halo());
         solver_->divide(ranks_);
         ++divisions_;
+        steps_at_division_ = solver_->steps();
         std::string weights;
         for (size_t r = 0; r < speed.size() && r < 8; ++r)
             weights += format(r ? ", %.3f" : "%.3f", speed[r]);
@@ -483,7 +486,7 @@ class FluidRun : public Run {
     // Since the last division: when it was, this rank's waits and cell updates then.
     std::chrono::steady_clock::time_point divided_at_ = std::chrono::steady_clock::now();
     double waited_at_division_ = 0;
-    long solved_at_division_ = 0;
+    long solved_at_division_ = 0, steps_at_division_ = -1;
     long solved() const { return solver_->cell_updates() - solver_->cell_updates_skipped(); }
     void start_measuring() {
         divided_at_ = std::chrono::steady_clock::now();

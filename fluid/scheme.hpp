@@ -215,7 +215,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     void exchanges_after(int k, std::vector<Ranks::Rows>& x) {
         if (!ranks_) return;
         std::vector<double>& U = k == 0 || k == 1 || k == 4 ? stage_ : u_;
-        x.push_back({U.data(), row_doubles(), k + 1 == step_phases ? halo() : stage_depth()});
+        x.push_back({U.data(), row_doubles(), stage_depth()});
     }
     void end_step() {
         if (failure_) {
@@ -289,8 +289,9 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         active_changed();
         check_all_ = true; // rows newly in reach of the still-water test are read afresh
     }
-    // The rows a rank reads beyond its block: in a stage (stage_depth), and with still water the reach of the
-    // test that wakes cells (wake) and one more for the cells it wakes.
+    // The rows a rank needs beyond its block, and so the fewest rows of a block: a stage's (stage_depth),
+    // and with still water the neighbours' marks of the test that wakes cells (wake: reach() + 1 rows) and
+    // one more.
     int halo() const override { return std::max(stage_depth(), skip_ ? reach() + 2 : 1); }
     // The rows a stage reads beyond the block: one through a face or the limiter's neighbours, and the
     // fluid that the stage ghosts in that row read (set_stage_ghosts).
@@ -607,7 +608,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         if (!skip_ || all_awake_) return;
         if (stage_ghosts_) stage_ghosts_(u_.data()); // the band as stage 1 will see it
         const int nx = mesh_.nx, ny = mesh_.ny, R = reach();
-        near_.resize(static_cast<long>(nx) * ny);
+        near_.resize(static_cast<long>(nx) * (ny + 2)); // row j at j + 1, as exchange() has them
+        auto marks = [&](int j) { return near_.data() + static_cast<long>(j + 1) * nx; };
         if (check_all_ || static_cast<int>(sleep_lo_.size()) != ny) {
             sleep_lo_.assign(ny, 0), sleep_hi_.assign(ny, 0);
             for (int j = 0; j < ny; ++j)
@@ -617,30 +619,34 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         // of the cells not awake in the rows within R. There, a cell not awake is read only if something
         // other than its own update may have changed it (it is not updated): written since the last wake
         // (set_state_in into u, marked in written_), in the last step's copy spans, or all after new data.
-        // On many ranks, the rows of the block and its halo only (the rows beyond are stale): the rows
-        // [wa, wb). A cell of the halo is always read: the rank does not know what its owner wrote there.
-        const int wa = std::max(0, row_begin() - halo()), wb = std::min(ny, row_end() + halo());
+        // On many ranks each rank marks the rows of its block [b0, b1) and receives the neighbours' marks of
+        // the R + 1 rows beyond: their owners read those rows as one rank would, and a row of marks is a byte
+        // per cell where the coefficients are NC doubles. The spans of cells not awake in rows of other
+        // ranks are those of the last division (share) or later: cells only wake, so they hold every cell
+        // not awake there. It then wakes the cells of its block and of the row beyond each edge (a face flux
+        // there asks whether the cell across is awake): the rows [wa, wb).
+        const int b0 = row_begin(), b1 = row_end();
+        const int wa = ranks_ ? std::max(0, b0 - 1) : 0, wb = ranks_ ? std::min(ny, b1 + 1) : ny;
         std::vector<int> from(ny), to(ny);
-        for (int j = wa; j < wb; ++j) {
+        for (int j = b0; j < b1; ++j) {
             int a = nx, b = 0;
-            for (int r = std::max(wa, j - R); r <= std::min(wb - 1, j + R); ++r)
+            for (int r = std::max(0, j - R); r <= std::min(ny - 1, j + R); ++r)
                 if (sleep_hi_[r] > sleep_lo_[r]) a = std::min(a, sleep_lo_[r]), b = std::max(b, sleep_hi_[r]);
             from[j] = std::max(0, a - R), to[j] = std::min(nx, b + R);
         }
-        // Along x: near_ = 1 within R cells of a disturbed cell of the row.
+        // Along x: marks = 1 within R cells of a disturbed cell of the row.
 #pragma omp parallel for schedule(static) if (D == 2)
-        for (int j = wa; j < wb; ++j) {
-            char* h = near_.data() + static_cast<long>(j) * nx;
+        for (int j = b0; j < b1; ++j) {
+            char* h = marks(j);
             std::fill(h, h + nx, 0);
             const int a = from[j], b = to[j];
             if (b <= a) continue;
             const int r = D == 2 ? j + 1 : 0;
             const int c0 = copy_lo_.empty() ? 0 : copy_lo_[r], c1 = copy_lo_.empty() ? 0 : copy_hi_[r];
-            const bool halo_row = j < row_begin() || j >= row_end();
             int last = -2 * R - 2;
             for (int i = a; i < b; ++i) {
                 const long k = mesh_.index(i, j);
-                const bool read = check_all_ || halo_row || awake_[k] || written_[k] || (i >= c0 && i < c1);
+                const bool read = check_all_ || awake_[k] || written_[k] || (i >= c0 && i < c1);
                 written_[k] = 0;
                 h[i] = read && disturbed(i, j);
                 if (h[i]) last = i;
@@ -653,8 +659,10 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             }
         }
         check_all_ = false;
-        // Along y: a cell wakes if a row within R of its own is near, counted per column over a window of
-        // rows that slides along each thread's block of rows (one pass over near_, not 2R + 1).
+        if (ranks_) ranks_->exchange(near_.data(), nx, R + 1);
+        // Along y: a cell wakes if a row within R of its own is marked, counted per column over a window of
+        // rows that slides along each thread's block of rows (one pass over the marks, not 2R + 1).
+        const int ma = std::max(0, wa - R), mb = std::min(ny, wb + R); // the rows marked or received
         long woken = 0;
         woken_rows_[0] = ny, woken_rows_[1] = -1;
 #pragma omp parallel reduction(+ : woken) if (D == 2)
@@ -667,15 +675,15 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             const int j1 = wa + static_cast<int>(static_cast<long>(wb - wa) * (thread + 1) / threads);
             std::vector<int> count(nx, 0);
             auto add = [&](int r, int sign) {
-                const char* h = near_.data() + static_cast<long>(r) * nx;
+                const char* h = marks(r);
                 for (int i = 0; i < nx; ++i)
                     count[i] += sign * h[i];
             };
-            for (int r = std::max(wa, j0 - R); r < std::min(wb, j0 + R); ++r)
+            for (int r = std::max(ma, j0 - R); r < std::min(mb, j0 + R); ++r)
                 add(r, 1);
             int first = ny, last = -1; // rows with cells woken
             for (int j = j0; j < j1; ++j) {
-                if (j + R < wb) add(j + R, 1); // the window is now rows [j − R, j + R]
+                if (j + R < mb) add(j + R, 1); // the window is now rows [j − R, j + R]
                 char* a = awake_.data() + mesh_.index(0, j);
                 long row = 0;
                 for (int i = 0; i < nx; ++i) {
@@ -685,14 +693,15 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 }
                 if (row > 0) first = std::min(first, j), last = j, sleep_span(j);
                 woken += row;
-                if (j - R >= wa) add(j - R, -1);
+                if (j - R >= ma) add(j - R, -1);
             }
 #pragma omp critical(undex_wake_rows)
             woken_rows_[0] = std::min(woken_rows_[0], first), woken_rows_[1] = std::max(woken_rows_[1], last);
         }
         if (woken == 0) return;
         active_changed(woken_rows_[0], woken_rows_[1]);
-        all_awake_ = awake_count() == static_cast<long>(nx) * ny; // no more scans
+        // On many ranks the test goes on: every rank takes part in each exchange of marks.
+        all_awake_ = !ranks_ && awake_count() == static_cast<long>(nx) * ny; // no more scans
     }
     long awake_count() const {
         long n = 0;
