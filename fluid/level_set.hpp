@@ -298,7 +298,7 @@ class LevelSet {
     // Many ranks (divide): the rank of each row; in rk3, the cells of near_ this rank computes (own_).
     const Ranks* ranks_ = nullptr;
     std::vector<int> owner_;
-    mutable std::vector<int> own_, by_rank_, group_;
+    mutable std::vector<int> own_, by_rank_, group_, rank_of_;
     mutable bool grouped_ = false;
     mutable std::vector<double> send_, recv_; // gather_near's messages
     // The cells a rate is computed for (after own_cells): this rank's own, or near_ on one rank.
@@ -503,15 +503,23 @@ class LevelSet {
     void group() const {
         if (grouped_) return;
         const int size = ranks_->size();
+        // A cell's rank from its index: the blocks' first cells, in order (no division per cell).
+        std::vector<int> first(size + 1);
+        for (int r = 0; r <= size; ++r)
+            first[r] = r < size ? ranks_->begin(r) * nx_ : nx_ * ny_;
+        auto rank_of = [&](int c) {
+            return static_cast<int>(std::upper_bound(first.begin() + 1, first.end(), c) - first.begin()) - 1;
+        };
         group_.assign(size + 1, 0);
-        for (const int c : near_)
-            ++group_[owner_[c / nx_] + 1];
+        rank_of_.resize(near_.size());
+        for (size_t k = 0; k < near_.size(); ++k)
+            ++group_[(rank_of_[k] = rank_of(near_[k])) + 1];
         for (int r = 0; r < size; ++r)
             group_[r + 1] += group_[r];
         std::vector<int> at(group_.begin(), group_.end() - 1);
         by_rank_.resize(near_.size());
-        for (const int c : near_)
-            by_rank_[at[owner_[c / nx_]]++] = c;
+        for (size_t k = 0; k < near_.size(); ++k)
+            by_rank_[at[rank_of_[k]]++] = near_[k];
         const int me = ranks_->rank();
         own_.assign(by_rank_.begin() + group_[me], by_rank_.begin() + group_[me + 1]);
         grouped_ = true;

@@ -457,9 +457,14 @@ class TwoFluid final : public FluidSolver {
         // w vanishes outside the band: a cell leaves near_tube() only from beyond it.
         const std::vector<int>& cells = phi_.near_tube();
         const long m = static_cast<long>(cells.size());
+        // On many ranks, the rows a stage of this rank reads (its block and the stage's depth beyond): w is
+        // read in the rank's own rows, the ghost cells as deep as a stage reads; the others' are theirs.
+        const int depth = std::max(minus_.stage_depth(), plus_.stage_depth());
+        const int ja = ranks_ ? ranks_->begin() - depth : 0, jb = ranks_ ? ranks_->end() + depth : ny;
 #pragma omp parallel for schedule(static) if (D == 2)
         for (long c = 0; c < m; ++c) {
             const int k = cells[c], i = k % nx, j = k / nx;
+            if (j < ja || j >= jb) continue;
             const double f = phi_(i, j);
             wx_[k] = wy_[k] = 0.0;
             if (std::abs(f) > band || !in_region(i, j)) continue;
