@@ -195,14 +195,33 @@ template <class T> void Ranks::post_rows(T* rows, long row, int depth, void* req
 void Ranks::exchange(double* rows, long row, int depth) const {
     exchange_rows(rows, row, depth);
 }
+struct Ranks::Pending {
+    std::vector<MPI_Request> q;
+};
 void Ranks::exchange(const std::vector<Rows>& x) const {
-    if (size_ == 1 || x.empty()) return;
+    post(x);
+    complete();
+}
+void Ranks::post(const std::vector<Rows>& x) const {
+    if (size_ == 1) return;
+    if (!pending_) pending_ = std::make_shared<Pending>();
+    if (!pending_->q.empty()) throw std::logic_error("Ranks::post before the last post() was completed");
     // Messages between two ranks with one tag arrive in the order sent: the list's order matches them.
-    std::vector<MPI_Request> q(4 * x.size());
+    pending_->q.resize(4 * x.size());
     for (size_t k = 0; k < x.size(); ++k)
-        post_rows(x[k].rows, x[k].row, x[k].depth, &q[4 * k]);
+        post_rows(x[k].rows, x[k].row, x[k].depth, &pending_->q[4 * k]);
+}
+void Ranks::progress() const {
+    if (size_ == 1 || !pending_ || pending_->q.empty()) return;
+    int done = 0;
+    MPI_Testall(static_cast<int>(pending_->q.size()), pending_->q.data(), &done, MPI_STATUSES_IGNORE);
+}
+void Ranks::complete() const {
+    if (size_ == 1 || !pending_ || pending_->q.empty()) return;
+    std::vector<MPI_Request>& q = pending_->q;
     Waiting w(halo_wait, rank_ > 0 ? rank_ - 1 : -1, rank_ + 1 < size_ ? rank_ + 1 : -1);
     MPI_Waitall(static_cast<int>(q.size()), q.data(), MPI_STATUSES_IGNORE);
+    q.clear();
 }
 void Ranks::exchange(char* rows, long row, int depth) const {
     exchange_rows(rows, row, depth);

@@ -5,6 +5,7 @@
 // halo are stale until share() makes the whole state current on every rank (before an output and a new
 // division). Without mpirun there is one rank and every call is a no-op. MPI stays inside ranks.cpp.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,14 @@ class Ranks {
         int depth;
     };
     void exchange(const std::vector<Rows>& x) const;
+    // The same in two halves: post() starts the messages, complete() waits for them. Between the two the
+    // rows sent must not change and the rows received must be neither read nor written.
+    // progress(), called now and then between them (from the thread that called post), lets the messages
+    // advance while this rank computes: a message of many rows is copied only when its receiver asks for it,
+    // so that without it a rank's send would wait for the neighbour to reach its own complete().
+    void post(const std::vector<Rows>& x) const;
+    void progress() const;
+    void complete() const;
     // Every rank's block to every rank (padded rows as exchange()).
     void share(double* rows, long row) const;
     void share(char* rows, long row) const;
@@ -79,6 +88,8 @@ class Ranks {
     Ranks() = default;
     int rank_ = 0, size_ = 1;
     std::vector<int> first_ = {0, 0};
+    struct Pending; // the messages post() started
+    mutable std::shared_ptr<Pending> pending_;
     template <class T> void exchange_rows(T* rows, long row, int depth) const;
     template <class T> void post_rows(T* rows, long row, int depth, void* requests) const;
     template <class T> void share_rows(T* rows, long row) const;

@@ -17,6 +17,7 @@
 #include "fluid/solver.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -26,16 +27,21 @@ namespace undex::fluid {
 
 // A step in phases (Scheme::begin_step, phase, exchanges_after, end_step; TwoFluid's and WetFluid's alike):
 // the phases of S, each followed by one exchange among the ranks of all that it leaves (none on one rank);
-// end_step throws the step's SolverFailure.
+// end_step throws the step's SolverFailure. Each phase comes in two parts: part 0 computes the rows that
+// the exchange sends (near the block's edges), part 1 the rows between while the messages travel, so that
+// a rank waits only for the neighbours' edge rows, not for the slower rank's whole phase (the phases are
+// unbalanced in both directions: one rank's rows hold more cells to update, the other's more to limit).
 inline constexpr int step_phases = 6;
 template <class S> void step_phased(S& s, const Ranks* ranks, double dt) {
     s.begin_step(dt);
     std::vector<Ranks::Rows> x;
     for (int k = 0; k < step_phases; ++k) {
-        s.phase(k);
+        s.phase(k, 0);
         x.clear();
         s.exchanges_after(k, x);
-        if (ranks) ranks->exchange(x);
+        if (ranks) ranks->post(x);
+        s.phase(k, 1);
+        if (ranks) ranks->complete();
     }
     s.end_step();
 }
@@ -180,8 +186,9 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     // On many ranks (divide) each stage's result is exchanged with the neighbours' blocks before the
     // limiter and the next stage read it, as deep as they read (stage_depth); a rank that meets a state it
     // cannot hold does no more work in the step but still takes part in every exchange, so that its
-    // neighbours finish the step too.
-    void phase(int k) {
+    // neighbours finish the step too. Part 0 of a phase computes the rows the exchange sends, part 1 the
+    // others (part_rows); the rows received are neither read nor written in part 1.
+    void phase(int k, int part) {
         auto work = [&](auto&& f) {
             if (failure_) return;
             try {
@@ -193,23 +200,50 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         const double dt = dt_;
         switch (k) {
         case 0: // stage 1: U1 = U + dt L(U)
-            return work([&] { stage_update(u_, time_, {stage_, 1.0, u0_, 0.0, dt}); });
+            return work([&] { stage_update(u_, time_, {stage_, 1.0, u0_, 0.0, dt}, part); });
         case 1:
-            return work([&] { limit(stage_, time_ + dt, "stage 1"); });
+            return work([&] { limit(stage_, time_ + dt, "stage 1", part); });
         case 2: // stage 2: U2 = 3/4 U + 1/4 (U1 + dt L(U1))
-            return work([&] { stage_update(stage_, time_ + dt, {u_, 0.75, u0_, 0.25, 0.25 * dt}); });
+            return work([&] { stage_update(stage_, time_ + dt, {u_, 0.75, u0_, 0.25, 0.25 * dt}, part); });
         case 3:
-            return work([&] { limit(u_, time_ + 0.5 * dt, "stage 2"); });
+            return work([&] { limit(u_, time_ + 0.5 * dt, "stage 2", part); });
         case 4: // stage 3: U = 1/3 U + 2/3 (U2 + dt L(U2))
             return work([&] {
-                stage_update(u_, time_ + 0.5 * dt, {stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, 2.0 / 3.0 * dt});
+                stage_update(u_, time_ + 0.5 * dt, {stage_, 1.0 / 3.0, u0_, 2.0 / 3.0, 2.0 / 3.0 * dt}, part);
             });
         default:
-            work([&] { limit(stage_, time_ + dt, "stage 3"); });
-            // the step's result, or its start again after a failure; then as far as the next step's
-            // still-water test reads (wake)
-            return failure_ ? copy_region(u_, u0_) : copy_region(u_, stage_);
+            work([&] { limit(stage_, time_ + dt, "stage 3", part); });
+            // the step's result (after a failure end_step restores its start, once the exchange is over)
+            if (!failure_) copy_region(u_, stage_, nullptr, part);
         }
+    }
+    // The rows of part `part` of a phase, as two ranges [r[0], r[1]) and [r[2], r[3]). Part 0: the rows
+    // within stage_depth() + inner of the block's edges (every row on one rank, or in a block too thin to
+    // divide); part 1: the rows between. `inner` widens part 0 into the block (the limiter's: a row's
+    // neighbours are limited before its own limited values replace the old).
+    std::array<int, 4> part_rows(int part, int inner) const {
+        const int b0 = row_begin(), b1 = row_end(), d = stage_depth() + inner;
+        const bool split = ranks_ && b1 - b0 > 2 * (stage_depth() + 1) + 2;
+        if (!split) return part == 0 ? std::array<int, 4>{b0, b1, b1, b1} : std::array<int, 4>{b1, b1, b1, b1};
+        if (part == 0) return {b0, b0 + d, b1 - d, b1};
+        return {b0 + d, b1 - d, b1 - d, b1 - d};
+    }
+    // Lets the messages of the phase's exchange advance (Ranks::progress) during its part 1: on the thread
+    // that posted them only (MPI_THREAD_FUNNELED).
+    void progress() const {
+        if (!ranks_) return;
+#ifdef _OPENMP
+        if (omp_get_thread_num() != 0) return;
+#endif
+        ranks_->progress();
+    }
+    static std::vector<int> rows_in(const std::array<int, 4>& r) {
+        std::vector<int> rows;
+        for (int j = r[0]; j < r[1]; ++j)
+            rows.push_back(j);
+        for (int j = r[2]; j < r[3]; ++j)
+            rows.push_back(j);
+        return rows;
     }
     // What phase k leaves for the neighbours.
     void exchanges_after(int k, std::vector<Ranks::Rows>& x) {
@@ -219,6 +253,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     }
     void end_step() {
         if (failure_) {
+            copy_region(u_, u0_); // the step's start again
             std::ostringstream s;
             s << failure_->what() << " in step " << steps_ + 1 << " from t = " << time_
               << " s with dt = " << dt_ << " s";
@@ -738,14 +773,17 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
                 if (j < row_begin() + M || j >= row_end() - M) copy_lo_[j + 1] = -1, copy_hi_[j + 1] = nx + 1;
     }
     // dst = src (and *also = src) over the cells of copy_spans().
+    // part (phase): 0, every row outside part 1's; 1, part 1's rows only; −1: every row.
     void copy_region(std::vector<double>& dst, const std::vector<double>& src,
-                     std::vector<double>* also = nullptr) {
+                     std::vector<double>* also = nullptr, int part = -1) {
         const int rows = static_cast<int>(copy_lo_.size());
         double* d2 = also ? also->data() : nullptr;
+        const std::array<int, 4> inner = part_rows(1, 0);
 #pragma omp parallel for schedule(static) if (D == 2)
         for (int r = 0; r < rows; ++r) {
             if (copy_hi_[r] <= copy_lo_[r]) continue;
             const int j = D == 2 ? r - 1 : 0;
+            if (part >= 0 && (D == 2 && j >= inner[0] && j < inner[1]) != (part == 1)) continue;
             const long k0 = static_cast<long>(mesh_.index(copy_lo_[r], j)) * NC;
             const long k1 = static_cast<long>(mesh_.index(copy_hi_[r] - 1, j) + 1) * NC;
             std::copy(src.begin() + k0, src.begin() + k1, dst.begin() + k0);
@@ -776,8 +814,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     };
     // The update is written by the volume loop of compute_rhs as each cell's L(U) is known, the absorbing
     // layers' relaxation −σ (U − U_ref) included (no pass over the arrays of its own).
-    void stage_update(std::vector<double>& U, double t, const Stage& st) {
-        compute_rhs(U, t, st);
+    void stage_update(std::vector<double>& U, double t, const Stage& st, int part = 0) {
+        compute_rhs(U, t, st, part);
     }
 
     // The hot loop of the solver, over bands of BAND rows: a band computes the fluxes through the x faces of
@@ -787,14 +825,23 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     // from one to the other (no array of all the faces); a y face between two bands is computed by both,
     // the same value.
     static constexpr int BAND = 8;
-    void compute_rhs(std::vector<double>& Uvec, double t, const Stage& st) {
+    // Part 0 (phase) also fills the ghost cells.
+    void compute_rhs(std::vector<double>& Uvec, double t, const Stage& st, int part) {
         double* U = Uvec.data();
         double* out = st.out.data();
         const double* xs = st.x.data();
         const double sa = st.a, sb = st.b, sbdt = st.bdt;
-        fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t, ghost_rows(0), ghost_rows(1));
-        if (stage_ghosts_) stage_ghosts_(U);
-        const int nx = mesh_.nx, rb = row_begin(), re = row_end(), bands = (re - rb + BAND - 1) / BAND;
+        if (part == 0) {
+            fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t, ghost_rows(0), ghost_rows(1));
+            if (stage_ghosts_) stage_ghosts_(U);
+        }
+        // Bands of at most BAND rows over the part's two ranges of rows.
+        const std::array<int, 4> r = part_rows(part, 0);
+        std::vector<std::array<int, 2>> band_rows;
+        for (int q = 0; q < 4; q += 2)
+            for (int j = r[q]; j < r[q + 1]; j += BAND)
+                band_rows.push_back({j, std::min(r[q + 1], j + BAND)});
+        const int nx = mesh_.nx, bands = static_cast<int>(band_rows.size());
         const long xrow = static_cast<long>(nx + 1) * NQF * NV, yrow = static_cast<long>(nx) * NQF * NV;
 #ifdef _OPENMP
         const size_t threads = D == 2 ? omp_get_max_threads() : 1;
@@ -813,7 +860,8 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             faces.resize(BAND * xrow + (D == 2 ? (BAND + 1) * yrow : 0)); // once per thread
 #pragma omp for schedule(dynamic, 1)
             for (int b = 0; b < bands; ++b) {
-                const int j0 = rb + b * BAND, j1 = std::min(re, j0 + BAND);
+                const int j0 = band_rows[b][0], j1 = band_rows[b][1];
+                if (part == 1) progress();
                 double* fx = faces.data();     // x faces of row j at fx + (j − j0)·xrow
                 double* fy = fx + BAND * xrow; // y faces of face row j (j0 … j1) at fy + (j − j0)·yrow
                 for (int j = j0; j < j1; ++j)
@@ -1117,17 +1165,30 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
     // Two passes over the rows: the indicator and the limiter of each row (the limited polynomials go to
     // rhs_, free at this point, so that every cell is limited from its neighbours' unlimited ones), then the
     // copy back and the positivity of each row; one barrier between them instead of one per sweep.
-    void limit(std::vector<double>& Uvec, double t, const char* stage) {
+    // In parts (phase): part 0 limits the rows within stage_depth() + 1 of the block's edges and replaces
+    // those within stage_depth(); part 1 the others. A cell that cannot be held throws at the end of part 1
+    // (the lowest-numbered such cell of both parts, as in one pass).
+    void limit(std::vector<double>& Uvec, double t, const char* stage, int part = -1) {
+        if (part < 0) {
+            limit(Uvec, t, stage, 0);
+            return limit(Uvec, t, stage, 1);
+        }
         double* U = Uvec.data();
         double* out = rhs_.data();
-        if (stage_ghosts_) stage_ghosts_(U); // also leaves the band fresh in the step's result
         const bool limiting = K > 0 && set_.limiter != Limiter::None && set_.indicator != Indicator::None;
-        const int ny = mesh_.ny;
+        if (part == 0) {
+            bad_ = BadCell{};
+            if (stage_ghosts_) stage_ghosts_(U); // also leaves the band fresh in the step's result
+            if (limiting) fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t, ghost_rows(0), ghost_rows(1));
+        }
+        const std::vector<int> limited = rows_in(part_rows(part, 1)), replaced = rows_in(part_rows(part, 0));
         if (limiting) {
-            fill_ghosts<D, K, Eos>(mesh_, U, bc_, eos_, t, ghost_rows(0), ghost_rows(1));
             long count = 0;
+            const int n = static_cast<int>(limited.size());
 #pragma omp parallel for reduction(+ : count) schedule(dynamic, 8) if (D == 2)
-            for (int j = 0; j < ny; ++j) {
+            for (int m = 0; m < n; ++m) {
+                const int j = limited[m];
+                if (part == 1 && m % 8 == 0) progress();
                 count += mark_row(U, j);
                 if (set_.limiter == Limiter::Weno)
                     weno_row(U, out, j);
@@ -1137,17 +1198,19 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
             troubled_ += count;
         }
         // Always: positivity also detects inadmissible cell averages.
-        BadCell bad;
+        BadCell& bad = bad_;
         long count = 0;
+        const int n = static_cast<int>(replaced.size());
 #pragma omp parallel for reduction(+ : count) schedule(dynamic, 8) if (D == 2)
-        for (int j = 0; j < ny; ++j) {
+        for (int m = 0; m < n; ++m) {
+            const int j = replaced[m];
             if (limiting)
                 for (int i = lo_[j]; i < hi_[j]; ++i)
                     if (troubled_flag_[mesh_.index(i, j)]) std::copy_n(cell(out, i, j), NC, cell(U, i, j));
             count += positivity_row(U, j, stage, bad);
         }
         scaled_ += count;
-        if (bad.i >= 0) fail_cell(bad.i, bad.j, bad.what, t);
+        if (part == 1 && bad.i >= 0) fail_cell(bad.i, bad.j, bad.what, t);
     }
 
     // The troubled cells of row j (troubled_flag_); returns their number.
@@ -1404,6 +1467,7 @@ template <int D, int K, EquationOfState Eos> class Scheme final : public FluidSo
         int i = -1, j = -1;
         std::string what;
     };
+    BadCell bad_; // limit()'s first cell that cannot be held, over both parts
     long positivity_row(double* U, int j, const char* stage, BadCell& bad) const {
         const int nx = mesh_.nx;
         const bool scale = set_.positivity && K > 0;

@@ -112,9 +112,9 @@ class TwoFluid final : public FluidSolver {
         minus_.begin_step(dt);
         plus_.begin_step(dt);
     }
-    void phase(int k) {
-        minus_.phase(k);
-        plus_.phase(k);
+    void phase(int k, int part) {
+        minus_.phase(k, part);
+        plus_.phase(k, part);
     }
     void exchanges_after(int k, std::vector<Ranks::Rows>& x) {
         minus_.exchanges_after(k, x);

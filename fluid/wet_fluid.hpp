@@ -224,9 +224,9 @@ template <int K, class M> class WetFluid final : public WetSolver {
         for (auto& sd : sides_)
             sd->scheme->begin_step(dt);
     }
-    void phase(int k) {
+    void phase(int k, int part) {
         for (auto& sd : sides_)
-            sd->scheme->phase(k);
+            sd->scheme->phase(k, part);
     }
     void exchanges_after(int k, std::vector<Ranks::Rows>& x) {
         for (auto& sd : sides_)
