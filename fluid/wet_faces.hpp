@@ -118,15 +118,11 @@ class WetFaces {
     // inside the fluid's domain is taken to continue along its end segments, so that its side is decided
     // near the face and its rays alone (the fluid's use: fluid/wet_fluid.hpp).
     ClosestPoint to_segment(int a, double px, double py, bool rays = false) const {
-        const double tx = x_[a + 1] - x_[a], ty = y_[a + 1] - y_[a];
-        const int f = face_[a];
-        const double lo = rays && a == begin(f) ? -std::numeric_limits<double>::infinity() : 0.0;
-        const double hi = rays && a + 2 == end(f) ? std::numeric_limits<double>::infinity() : 1.0;
-        const double t = std::clamp(((px - x_[a]) * tx + (py - y_[a]) * ty) / (tx * tx + ty * ty), lo, hi);
+        double cx, cy;
+        const double t = closest(a, px, py, rays, cx, cy);
         ClosestPoint c;
         c.a = a;
         c.t = t;
-        const double cx = t == 1.0 ? x_[a + 1] : x_[a] + t * tx, cy = t == 1.0 ? y_[a + 1] : y_[a] + t * ty;
         c.distance = std::hypot(px - cx, py - cy);
         if (t != 0.0 && t != 1.0) { // inside the segment or on a ray
             c.nx = snx_[a], c.ny = sny_[a];
@@ -135,6 +131,23 @@ class WetFaces {
             c.nx = n[0], c.ny = n[1];
         }
         return c;
+    }
+
+    // The square of to_segment's distance alone (no root, no normal): for a search of the nearest segment.
+    double distance2(int a, double px, double py, bool rays = false) const {
+        double cx, cy;
+        closest(a, px, py, rays, cx, cy);
+        return (px - cx) * (px - cx) + (py - cy) * (py - cy);
+    }
+    // The closest point (cx, cy) of segment a to (px, py), and its parameter t (to_segment).
+    double closest(int a, double px, double py, bool rays, double& cx, double& cy) const {
+        const double tx = x_[a + 1] - x_[a], ty = y_[a + 1] - y_[a];
+        const int f = face_[a];
+        const double lo = rays && a == begin(f) ? -std::numeric_limits<double>::infinity() : 0.0;
+        const double hi = rays && a + 2 == end(f) ? std::numeric_limits<double>::infinity() : 1.0;
+        const double t = std::clamp(((px - x_[a]) * tx + (py - y_[a]) * ty) / (tx * tx + ty * ty), lo, hi);
+        cx = t == 1.0 ? x_[a + 1] : x_[a] + t * tx, cy = t == 1.0 ? y_[a + 1] : y_[a] + t * ty;
+        return t;
     }
 
     // Signed distance of (px, py) to a closest point c: positive on the structure's side.

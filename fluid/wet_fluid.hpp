@@ -394,8 +394,8 @@ template <int K, class M> class WetFluid final : public WetSolver {
         std::vector<Ghost> ghosts; // the band set at every stage
         int rows[2] = {0, -1};     // the rows of the cells near the face at the last two rebuilds
     };
-    struct Nearest {
-        double distance = std::numeric_limits<double>::infinity();
+    struct Nearest { // the nearest segment a cell has met, by the square of its distance
+        double distance2 = std::numeric_limits<double>::infinity();
         int a = -1;
     };
 
@@ -520,7 +520,7 @@ template <int K, class M> class WetFluid final : public WetSolver {
     // to (a flood fill: the band around a face and its rays, 5 cells thick, separates the sides).
     void rebuild(bool first = false) {
         const WetFaces& w = *faces_;
-        const double reach = far();
+        const double reach = far(), reach2 = reach * reach;
         for (int f = 0; f < w.faces(); ++f) {
             Side& sd = *sides_[f];
             sd.rows[0] = mesh_.ny, sd.rows[1] = -1;
@@ -552,11 +552,11 @@ template <int K, class M> class WetFluid final : public WetSolver {
                     std::min(mesh_.ny - 1, static_cast<int>(std::floor((y1 - mesh_.y_min) / mesh_.dy)));
                 for (int j = j0; j <= j1; ++j)
                     for (int i = i0; i <= i1; ++i) {
-                        const ClosestPoint cp = w.to_segment(a, mesh_.xc(i), mesh_.yc(j), true);
-                        if (cp.distance >= reach) continue;
+                        const double d2 = w.distance2(a, mesh_.xc(i), mesh_.yc(j), true);
+                        if (d2 >= reach2) continue;
                         Nearest& nb = nearest_[at(i, j)];
                         if (nb.a < 0) sd.near.push_back(at(i, j));
-                        if (cp.distance < nb.distance) nb = {cp.distance, a};
+                        if (d2 < nb.distance2) nb = {d2, a};
                     }
             }
             sd.ghosts.clear();
